@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+#include "core/analyzer.hpp"
+
+#include <chrono>
+
+#include "core/fingerprint.hpp"
+
+namespace pb {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+Analyzer::Analyzer(AnalyzerOptions options, const FrictionModel& friction)
+    : options_(std::move(options)), friction_(&friction) {}
+
+void Analyzer::clear_cache() {
+  prepared_.clear();
+  results_.clear();
+}
+
+Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
+  const std::string key = config_fingerprint(config);
+  if (auto it = prepared_.find(key); it != prepared_.end()) {
+    ++cache_hits_;
+    return Result<PreparedPallet*>{it->second.get(), {}};
+  }
+  const auto start = std::chrono::steady_clock::now();
+  auto scene = build_scene(config, options_.scene, *friction_);
+  if (!scene) return Result<PreparedPallet*>::failure(std::move(scene.diagnostics));
+  auto prepared = std::make_unique<PreparedPallet>();
+  prepared->fingerprint = key;
+  prepared->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto simulator = Simulator::create(*prepared->scene);
+  if (!simulator) return Result<PreparedPallet*>::failure(std::move(simulator.diagnostics));
+  prepared->simulator = std::make_unique<Simulator>(std::move(*simulator.value));
+  auto rest = prepared->simulator->settle(options_.settle);
+  if (!rest) return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
+  prepared->rest = std::move(*rest.value);
+  prepared->bounds = quasi_static_bounds(config, prepared->scene->friction);
+  prepared->prepare_ms = ms_since(start);
+  PreparedPallet* out = prepared.get();
+  prepared_.emplace(key, std::move(prepared));
+  return Result<PreparedPallet*>{out, std::move(scene.diagnostics)};
+}
+
+Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  auto prepared = prepare(config);
+  if (!prepared) return Result<Envelope>::failure(std::move(prepared.diagnostics));
+  PreparedPallet& p = **prepared.value;
+  auto env =
+      search_envelope(*p.simulator, p.rest, p.bounds, options_.line, options_.search, options_.sim);
+  if (!env) return env;
+  env->result.pallet_id = config.pallet_id;
+  env->result.config_hash = p.fingerprint;
+  env->result.sim_runtime_ms = ms_since(start);
+  return env;
+}
+
+Result<SafetyResult> Analyzer::analyze(const PalletConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string key = config_fingerprint(config);
+  if (auto it = results_.find(key); it != results_.end()) {
+    ++cache_hits_;
+    SafetyResult cached = it->second;
+    cached.pallet_id = config.pallet_id;
+    cached.sims_run = 0;
+    cached.sim_runtime_ms = ms_since(start);
+    return Result<SafetyResult>{std::move(cached), {}};
+  }
+  auto env = envelope(config);
+  if (!env) return Result<SafetyResult>::failure(std::move(env.diagnostics));
+  results_.emplace(key, env->result);
+  return Result<SafetyResult>{env->result, std::move(env.diagnostics)};
+}
+
+Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile& profile,
+                              double replay_hz) {
+  Diagnostics problems = validate_profile(profile, "/profile");
+  if (has_errors(problems)) return Result<Solve>::failure(std::move(problems));
+  auto prepared = prepare(config);
+  if (!prepared) return Result<Solve>::failure(std::move(prepared.diagnostics));
+  PreparedPallet& p = **prepared.value;
+  SimOptions o = options_.sim;
+  o.record_trace = true;
+  Solve solve;
+  solve.sim = p.simulator->run(p.rest, profile, o);
+  solve.replay =
+      make_replay(solve.sim.trace, config, profile, std::string(to_string(solve.sim.outcome)),
+                  solve.sim.failure, replay_hz);
+  return Result<Solve>{std::move(solve), {}};
+}
+
+}  // namespace pb

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+// The front door of the physics core: compile once, settle once, probe many — with compiled
+// scenes, rest states and results cached by the fingerprint of the physically relevant fields.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/envelope.hpp"
+#include "core/friction.hpp"
+#include "core/quasi_static.hpp"
+#include "core/replay.hpp"
+#include "core/scene.hpp"
+#include "core/simulate.hpp"
+
+namespace pb {
+
+struct AnalyzerOptions {
+  SceneOptions scene;
+  SettleOptions settle;
+  SimOptions sim;
+  LineDescription line;
+  SearchConfig search;
+};
+
+/// A compiled, settled pallet: everything a probe needs.
+struct PreparedPallet {
+  std::string fingerprint;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Simulator> simulator;
+  RestState rest;
+  QuasiStaticBounds bounds;
+  double prepare_ms = 0.0;  ///< compile + settle wall time
+};
+
+/// One conveyor profile, simulated, with its replay.
+struct Solve {
+  SimResult sim;
+  Replay replay;
+};
+
+/// Not thread-safe: one Analyzer per thread (the console runs its own on a worker thread).
+class Analyzer {
+ public:
+  explicit Analyzer(AnalyzerOptions options = {},
+                    const FrictionModel& friction = FrictionModel::builtin());
+
+  /// The compiled and settled pallet (cached). Fails for an invalid pallet, an engine error, or a
+  /// load that will not come to rest (a build defect).
+  Result<PreparedPallet*> prepare(const PalletConfig& config);
+
+  /// The full SafetyResult (cached: a second call costs about a millisecond and reports 0 sims).
+  Result<SafetyResult> analyze(const PalletConfig& config);
+  /// The envelope with its probes (not cached).
+  Result<Envelope> envelope(const PalletConfig& config);
+
+  /// Runs one profile from rest with a full trace and a replay at `replay_hz`.
+  Result<Solve> solve(const PalletConfig& config, const ConveyorProfile& profile,
+                      double replay_hz = 30.0);
+
+  const AnalyzerOptions& options() const { return options_; }
+  int cache_hits() const { return cache_hits_; }
+  void clear_cache();
+
+ private:
+  AnalyzerOptions options_;
+  const FrictionModel* friction_;
+  std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;
+  std::map<std::string, SafetyResult> results_;
+  int cache_hits_ = 0;
+};
+
+}  // namespace pb

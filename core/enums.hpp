@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+// The enumerations of the contract and their JSON names (the reference system's strings).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace pb {
+
+enum class Fragility { rigid, semi_rigid, deformable };
+enum class WrapType { none, shrink, stretch, banded };
+enum class Environment { frozen, refrigerated, thawed, transitioning };
+enum class FailureMode { no_failure, tip_over, top_item_slide, pallet_slip, load_shift };
+enum class ProfileShape { accel_hold, constant, ramp_decel, estop, curve, eumos };
+/// Pallet base types. The base's surface material (wood or plastic) follows from the type.
+enum class PalletType { eur, gma, chep };
+/// What the pallet rides on (our addition; the reference assumed a rubber belt).
+enum class BeltSurface { rubber_belt, steel_roller };
+/// Layer patterns a scanner reports.
+enum class LayerPattern { column, brick, pinwheel, irregular };
+
+template <class E>
+struct EnumName {
+  E value;
+  std::string_view name;
+};
+
+/// EnumTable<E>::names lists every value of E with its JSON name, in declaration order.
+template <class E>
+struct EnumTable;
+
+template <>
+struct EnumTable<Fragility> {
+  static constexpr std::array<EnumName<Fragility>, 3> names{
+      {{Fragility::rigid, "rigid"},
+       {Fragility::semi_rigid, "semi_rigid"},
+       {Fragility::deformable, "deformable"}}};
+};
+template <>
+struct EnumTable<WrapType> {
+  static constexpr std::array<EnumName<WrapType>, 4> names{{{WrapType::none, "none"},
+                                                            {WrapType::shrink, "shrink"},
+                                                            {WrapType::stretch, "stretch"},
+                                                            {WrapType::banded, "banded"}}};
+};
+template <>
+struct EnumTable<Environment> {
+  static constexpr std::array<EnumName<Environment>, 4> names{
+      {{Environment::frozen, "frozen"},
+       {Environment::refrigerated, "refrigerated"},
+       {Environment::thawed, "thawed"},
+       {Environment::transitioning, "transitioning"}}};
+};
+template <>
+struct EnumTable<FailureMode> {
+  static constexpr std::array<EnumName<FailureMode>, 5> names{
+      {{FailureMode::no_failure, "no_failure"},
+       {FailureMode::tip_over, "tip_over"},
+       {FailureMode::top_item_slide, "top_item_slide"},
+       {FailureMode::pallet_slip, "pallet_slip"},
+       {FailureMode::load_shift, "load_shift"}}};
+};
+template <>
+struct EnumTable<ProfileShape> {
+  static constexpr std::array<EnumName<ProfileShape>, 6> names{
+      {{ProfileShape::accel_hold, "accel_hold"},
+       {ProfileShape::constant, "constant"},
+       {ProfileShape::ramp_decel, "ramp_decel"},
+       {ProfileShape::estop, "estop"},
+       {ProfileShape::curve, "curve"},
+       {ProfileShape::eumos, "eumos"}}};
+};
+template <>
+struct EnumTable<PalletType> {
+  static constexpr std::array<EnumName<PalletType>, 3> names{
+      {{PalletType::eur, "EUR"}, {PalletType::gma, "GMA"}, {PalletType::chep, "CHEP"}}};
+};
+template <>
+struct EnumTable<BeltSurface> {
+  static constexpr std::array<EnumName<BeltSurface>, 2> names{
+      {{BeltSurface::rubber_belt, "rubber_belt"}, {BeltSurface::steel_roller, "steel_roller"}}};
+};
+template <>
+struct EnumTable<LayerPattern> {
+  static constexpr std::array<EnumName<LayerPattern>, 4> names{
+      {{LayerPattern::column, "column"},
+       {LayerPattern::brick, "brick"},
+       {LayerPattern::pinwheel, "pinwheel"},
+       {LayerPattern::irregular, "irregular"}}};
+};
+
+/// The JSON name of a value.
+template <class E>
+constexpr std::string_view to_string(E value) {
+  for (const auto& entry : EnumTable<E>::names) {
+    if (entry.value == value) return entry.name;
+  }
+  return "?";
+}
+
+/// The value with this JSON name (exact, case-sensitive), or nullopt.
+template <class E>
+constexpr std::optional<E> enum_from_string(std::string_view name) {
+  for (const auto& entry : EnumTable<E>::names) {
+    if (entry.name == name) return entry.value;
+  }
+  return std::nullopt;
+}
+
+/// The accepted names, for error messages: "none, shrink, stretch or banded".
+template <class E>
+std::string enum_choices() {
+  std::string out;
+  const auto& names = EnumTable<E>::names;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += (i + 1 == names.size()) ? " or " : ", ";
+    out += names[i].name;
+  }
+  return out;
+}
+
+}  // namespace pb

@@ -1,0 +1,306 @@
+// SPDX-License-Identifier: MIT
+#include "core/envelope.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <optional>
+#include <sstream>
+
+namespace pb {
+
+std::string_view to_string(Axis axis) {
+  switch (axis) {
+    case Axis::accel:
+      return "accel";
+    case Axis::decel:
+      return "decel";
+    case Axis::lateral:
+      return "lateral";
+    case Axis::speed:
+      return "speed";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kSettleLead = 0.05;  // s at steady speed before a stop or a curve begins
+
+struct ProbeVerdict {
+  bool failed = false;
+  FailureMode mode = FailureMode::no_failure;
+};
+
+// One axis: probe near the seed, step outwards (doubling) until the boundary is bracketed, then
+// bisect to the precision. Failure is assumed monotone along the axis.
+class AxisSearch {
+ public:
+  using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
+
+  AxisSearch(double lo, double hi, double precision, ProbeFn probe)
+      : min_(lo), max_(hi), precision_(precision), probe_(std::move(probe)) {}
+
+  // nullopt when a probe was unstable.
+  std::optional<AxisLimit> run(double seed) {
+    AxisLimit out;
+    out.closed_form = seed;
+    std::optional<double> safe, fail;
+    FailureMode fail_mode = FailureMode::no_failure;
+    auto test = [&](double x) -> std::optional<bool> {
+      auto v = probe_(x);
+      ++out.probes;
+      if (!v) return std::nullopt;
+      if (v->failed) {
+        if (!fail || x < *fail) {
+          fail = x;
+          fail_mode = v->mode;
+        }
+      } else if (!safe || x > *safe) {
+        safe = x;
+      }
+      return v->failed;
+    };
+    const double first = std::clamp(seed, min_, max_);
+    auto r = test(first);
+    if (!r) return std::nullopt;
+    double step = precision_;
+    if (*r) {  // failed: walk down
+      for (double x = first - step; !safe && x > min_; step *= 2, x = *fail - step) {
+        if (!test(x)) return std::nullopt;
+      }
+      if (!safe && first > min_ && !test(min_)) return std::nullopt;
+    } else {  // safe: walk up
+      for (double x = first + step; !fail && x < max_; step *= 2, x = *safe + step) {
+        if (!test(x)) return std::nullopt;
+      }
+      if (!fail && first < max_ && !test(max_)) return std::nullopt;
+    }
+    while (safe && fail && *fail - *safe > precision_) {
+      if (!test(0.5 * (*safe + *fail))) return std::nullopt;
+    }
+    out.at_ceiling = !fail;
+    out.at_floor = !safe;
+    out.limit = safe.value_or(0.0);
+    out.mode = fail ? fail_mode : FailureMode::no_failure;
+    return out;
+  }
+
+ private:
+  double min_, max_, precision_;
+  ProbeFn probe_;
+};
+
+std::string fmt(double v, int digits = 2) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << std::fixed << v;
+  return s.str();
+}
+
+// How far up its search range a limit sits, in [0, 1].
+double normalised(const AxisLimit& a, double lo, double hi) {
+  if (a.at_ceiling) return 1.0;
+  return std::clamp((a.limit - lo) / (hi - lo), 0.0, 1.0);
+}
+
+// Speed from which a stop at `decel` makes a slip of friction `mu` slide `distance`:
+// d_slide = v^2 / 2 (1 / (mu g) - 1 / decel).
+double slide_speed(double mu, double decel, double distance) {
+  const double k = 1.0 / (mu * kGravity) - 1.0 / decel;
+  return k > 0.0 ? std::sqrt(2.0 * distance / k) : 1e9;
+}
+
+}  // namespace
+
+ConveyorProfile accel_probe_profile(double accel, const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::accel_hold;
+  p.accel_mps2 = accel;
+  p.target_speed_mps = std::min(s.speed_max_mps, accel * s.max_ramp_s);
+  p.duration_s = p.target_speed_mps / accel + s.hold_s;
+  return p;
+}
+
+ConveyorProfile decel_probe_profile(double decel, double speed, const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::estop;
+  p.target_speed_mps = speed;
+  p.decel_mps2 = decel;
+  p.decel_start_s = kSettleLead;
+  p.duration_s = kSettleLead + speed / decel + s.hold_s;
+  return p;
+}
+
+ConveyorProfile stop_probe_profile(double speed, const LineDescription& line,
+                                   const SearchConfig& s) {
+  return decel_probe_profile(line.estop_decel_mps2, speed, s);
+}
+
+ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
+                                      const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::curve;
+  p.curve_radius_m = line.curve_radius_m;
+  p.target_speed_mps = std::min(5.0, std::sqrt(lateral_g * kGravity * line.curve_radius_m));
+  // The lateral acceleration is what matters; a long arc at a low speed is capped at max_ramp_s.
+  const double arc_s =
+      line.curve_radius_m * line.curve_angle_deg * std::numbers::pi / 180.0 / p.target_speed_mps;
+  const double t = std::min(arc_s, s.max_ramp_s);
+  p.curve_angle_deg = line.curve_angle_deg * t / arc_s;
+  p.curve_start_s = kSettleLead;
+  p.duration_s = kSettleLead + t + s.hold_s;
+  return p;
+}
+
+Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
+                                 const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& s, const SimOptions& sim_options) {
+  const auto start = std::chrono::steady_clock::now();
+  Envelope env;
+  env.rest = rest;
+  SimOptions o = sim_options;
+  o.record_trace = false;
+  o.fail_fast = true;
+  std::optional<std::string> unstable;
+
+  auto prober = [&](Axis axis, std::function<ConveyorProfile(double)> make) {
+    return [&, axis, make](double x) -> std::optional<ProbeVerdict> {
+      SimResult r = simulator.run(rest, make(x), o);
+      Probe probe{axis,
+                  x,
+                  r.outcome,
+                  r.failure ? r.failure->mode : FailureMode::no_failure,
+                  r.failure ? r.failure->time_s : 0.0,
+                  r.wall_ms};
+      env.probes.push_back(probe);
+      if (r.outcome == Outcome::unstable) {
+        unstable = std::string(to_string(axis)) + " probe at " + fmt(x, 3) + ": " + r.reason;
+        return std::nullopt;
+      }
+      return ProbeVerdict{r.outcome == Outcome::failed, probe.mode};
+    };
+  };
+  auto fail_unstable = [&]() {
+    return Result<Envelope>::failure(
+        "", "the simulation became numerically unstable, so no verdict is given: " + *unstable);
+  };
+
+  const QuasiStaticLimit along = bounds.weakest_along();
+  const QuasiStaticLimit across = bounds.weakest_across();
+  // Quasi-static onset is a lower bound of failure in a probe of finite length: seed just above.
+  auto accel = AxisSearch(s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
+                          prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }))
+                   .run(along.accel_mps2 + s.accel_precision_mps2);
+  if (!accel) return fail_unstable();
+  env.accel = *accel;
+  auto decel =
+      AxisSearch(
+          s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
+          prober(Axis::decel, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }))
+          .run(along.accel_mps2 + s.decel_precision_mps2);
+  if (!decel) return fail_unstable();
+  env.decel = *decel;
+  auto lateral =
+      AxisSearch(s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
+                 prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }))
+          .run(across.accel_mps2 / kGravity + s.lateral_precision_g);
+  if (!lateral) return fail_unstable();
+  env.lateral = *lateral;
+
+  // Speed: the fastest speed from which the line's e-stop is survived. Below the quasi-static
+  // bound nothing slides and any speed is safe; above it the slide grows with v^2.
+  double speed_seed = s.speed_max_mps;
+  if (line.estop_decel_mps2 > along.accel_mps2) {
+    const bool slip = along.mode == FailureMode::pallet_slip;
+    speed_seed = along.mode == FailureMode::tip_over
+                     ? s.speed_min_mps
+                     : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+                                   slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
+  }
+  auto stop =
+      AxisSearch(s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps,
+                 prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }))
+          .run(speed_seed);
+  if (!stop) return fail_unstable();
+  env.speed = *stop;
+
+  SafetyResult& r = env.result;
+  r.line_estop_decel_mps2 = line.estop_decel_mps2;
+  r.line_curve_radius_m = line.curve_radius_m;
+  r.max_accel_mps2 = env.accel.limit;
+  r.accel_mode = env.accel.mode;
+  r.max_decel_mps2 = env.decel.limit;
+  r.decel_mode = env.decel.mode;
+  r.max_lateral_g = env.lateral.limit;
+  r.lateral_mode = env.lateral.mode;
+  // The speed the curve allows: v^2 / r within the measured lateral limit.
+  const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
+  const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
+  if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
+    r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
+    r.speed_mode = env.lateral.mode;
+    r.speed_governed_by = "curve";
+  } else {
+    r.max_speed_mps = stop_speed;
+    r.speed_mode = env.speed.mode;
+    r.speed_governed_by = env.speed.at_ceiling ? "ceiling" : "estop";
+  }
+  r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
+
+  struct Tight {
+    const char* name;
+    const AxisLimit* axis;
+    double margin;
+  };
+  const Tight tight[] = {
+      {"start-up", &env.accel, normalised(env.accel, s.accel_min_mps2, s.accel_max_mps2)},
+      {"stop", &env.decel, normalised(env.decel, s.decel_min_mps2, s.decel_max_mps2)},
+      {"curve", &env.lateral, normalised(env.lateral, s.lateral_min_g, s.lateral_max_g)},
+      {"line e-stop", &env.speed, normalised(env.speed, s.speed_min_mps, s.speed_max_mps)},
+  };
+  const Tight* weakest = &tight[0];
+  for (const auto& t : tight) {
+    if (t.margin < weakest->margin) weakest = &t;
+  }
+  r.margin_pct = 100.0 * weakest->margin;
+  r.dominant_failure_mode =
+      weakest->axis->at_ceiling ? FailureMode::no_failure : weakest->axis->mode;
+
+  const Tight* floor_axis = nullptr;
+  for (const auto& t : tight) {
+    if (t.axis->at_floor) {
+      floor_axis = &t;
+      break;
+    }
+  }
+  if (floor_axis != nullptr) {
+    r.verdict = "reject";
+    r.speed_governed_by = "reject";
+    r.max_speed_mps = 0.0;
+    r.dominant_failure_mode = floor_axis->axis->mode;
+    r.margin_pct = 0.0;
+    r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
+               floor_axis->name + " tried (" + std::string(to_string(floor_axis->axis->mode)) +
+               "). Re-stack or re-wrap before it enters the conveyor.";
+  } else {
+    r.verdict = "ok";
+    std::ostringstream why;
+    why << "Start-up to " << fmt(r.max_accel_mps2, 1) << " m/s^2"
+        << (env.accel.at_ceiling ? " (the top of the range)"
+                                 : " (then " + std::string(to_string(r.accel_mode)) + ")")
+        << "; stops from " << fmt(s.speed_max_mps, 1) << " m/s to " << fmt(r.max_decel_mps2, 1)
+        << " m/s^2; curves to " << fmt(r.max_lateral_g, 2) << " g; with a "
+        << fmt(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fmt(line.curve_radius_m, 1)
+        << " m curves: " << fmt(r.max_speed_mps, 2) << " m/s (" << r.speed_governed_by << ").";
+    r.reason = why.str();
+  }
+  r.sims_run = static_cast<int>(env.probes.size());
+  r.sim_runtime_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return Result<Envelope>{std::move(env), {}};
+}
+
+}  // namespace pb

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+// The safe envelope of one pallet: measured start-up acceleration, stop deceleration and lateral
+// (curve) limits, and the speed the line's stops and curves allow, each with the failure mode
+// that governs it. Bisection seeded by closed-form quasi-static bounds, so few probes are needed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/diagnostic.hpp"
+#include "core/quasi_static.hpp"
+#include "core/safety_result.hpp"
+#include "core/simulate.hpp"
+
+namespace pb {
+
+/// What the line does to a pallet besides starting it: how hard it stops and how tight it turns.
+struct LineDescription {
+  double estop_decel_mps2 = 2.0;  ///< emergency-stop deceleration of the line
+  double curve_radius_m = 3.0;    ///< tightest curve
+  double curve_angle_deg = 90.0;  ///< its angle
+
+  bool operator==(const LineDescription&) const = default;
+};
+
+/// Search ranges and precision (the reference's ranges; our precision).
+struct SearchConfig {
+  double speed_min_mps = 0.1, speed_max_mps = 2.0, speed_precision_mps = 0.05;
+  double accel_min_mps2 = 0.1, accel_max_mps2 = 5.0, accel_precision_mps2 = 0.1;
+  double decel_min_mps2 = 0.1, decel_max_mps2 = 5.0, decel_precision_mps2 = 0.1;
+  double lateral_min_g = 0.01, lateral_max_g = 0.5, lateral_precision_g = 0.01;
+  double hold_s = 0.5;      ///< probes run this long after the belt's motion stops changing
+  double max_ramp_s = 2.0;  ///< an acceleration probe ramps to speed_max, or for this long at most
+
+  bool operator==(const SearchConfig&) const = default;
+};
+
+enum class Axis { accel, decel, lateral, speed };
+std::string_view to_string(Axis axis);
+
+/// One simulation of the search.
+struct Probe {
+  Axis axis = Axis::accel;
+  double value = 0.0;  ///< m/s^2, m/s^2, g or m/s
+  Outcome outcome = Outcome::safe;
+  FailureMode mode = FailureMode::no_failure;
+  double failure_time_s = 0.0;
+  double wall_ms = 0.0;
+};
+
+struct AxisLimit {
+  double limit = 0.0;  ///< the largest value found safe (0 if even the floor fails)
+  FailureMode mode = FailureMode::no_failure;  ///< what fails just above it
+  bool at_ceiling = false;                     ///< safe throughout the search range
+  bool at_floor = false;                       ///< fails even at the bottom of the range
+  double closed_form = 0.0;                    ///< the quasi-static bound that seeded the search
+  int probes = 0;
+};
+
+struct Envelope {
+  SafetyResult result;
+  AxisLimit accel, decel, lateral, speed;
+  std::vector<Probe> probes;
+  RestState rest;
+};
+
+/// The probe profiles of each axis, so that a user can replay the probe that failed.
+ConveyorProfile accel_probe_profile(double accel_mps2, const SearchConfig& search);
+ConveyorProfile decel_probe_profile(double decel_mps2, double speed_mps,
+                                    const SearchConfig& search);
+ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
+                                      const SearchConfig& search);
+ConveyorProfile stop_probe_profile(double speed_mps, const LineDescription& line,
+                                   const SearchConfig& search);
+
+/// Searches every axis on a settled scene. An unstable probe makes the whole envelope fail with
+/// its reason (never a verdict); a pallet that fails at the floor of the acceleration or the stop
+/// search gets verdict "reject" with the mode.
+Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
+                                 const QuasiStaticBounds& bounds, const LineDescription& line = {},
+                                 const SearchConfig& search = {}, const SimOptions& sim = {});
+
+}  // namespace pb

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT
+#include "core/pallet_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace pb {
+
+namespace {
+
+// cos and sin of a yaw in degrees; exact for multiples of 90 degrees so that an axis-aligned
+// carton turned a quarter turn has exactly swapped extents.
+Vec2 cos_sin_deg(double deg) {
+  const double quarter = deg / 90.0;
+  if (quarter == std::round(quarter)) {
+    const long q = ((static_cast<long>(std::round(quarter)) % 4) + 4) % 4;
+    static constexpr Vec2 kExact[4] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0}};
+    return kExact[q];
+  }
+  const double rad = deg * std::numbers::pi / 180.0;
+  return {std::cos(rad), std::sin(rad)};
+}
+
+// Twice the signed area of triangle (a, b, p): positive when p is left of a->b.
+double cross(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
+}
+
+// Intersection of segment p->q with the infinite line a->b (p and q on opposite sides).
+Vec2 intersect(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b) {
+  const double dp = cross(a, b, p);
+  const double dq = cross(a, b, q);
+  const double t = dp / (dp - dq);
+  return {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+}
+
+// Keeps the part of `poly` left of (or on) the directed line a->b (one Sutherland–Hodgman pass).
+std::vector<Vec2> clip_by_edge(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b) {
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& cur = poly[i];
+    const Vec2& prev = poly[(i + poly.size() - 1) % poly.size()];
+    const bool cur_in = cross(a, b, cur) >= 0.0;
+    const bool prev_in = cross(a, b, prev) >= 0.0;
+    if (cur_in != prev_in) out.push_back(intersect(prev, cur, a, b));
+    if (cur_in) out.push_back(cur);
+  }
+  return out;
+}
+
+// Shoelace formula; positive for a counter-clockwise polygon.
+double signed_area(const std::vector<Vec2>& poly) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    twice += p[0] * q[1] - q[0] * p[1];
+  }
+  return twice / 2.0;
+}
+
+std::vector<Vec2> footprint_polygon(const Item& item) {
+  const auto corners = item_footprint(item);
+  return {corners.begin(), corners.end()};
+}
+
+std::vector<Vec2> deck_polygon(const Vec3& base_dims_m) {
+  const double hl = base_dims_m[0] / 2.0;
+  const double hw = base_dims_m[1] / 2.0;
+  return {{-hl, -hw}, {hl, -hw}, {hl, hw}, {-hl, hw}};
+}
+
+}  // namespace
+
+double total_mass_kg(const PalletConfig& config) {
+  double mass = config.base_mass_kg;
+  for (const Item& item : config.items) mass += item.weight_kg;
+  return mass;
+}
+
+Vec3 composite_com_m(const PalletConfig& config) {
+  double mass = config.base_mass_kg;
+  Vec3 moment{0.0, 0.0, config.base_mass_kg * config.base_dims_m[2] / 2.0};
+  for (const Item& item : config.items) {
+    const Vec3 com = item.center_of_mass();
+    for (std::size_t k = 0; k < 3; ++k) moment[k] += item.weight_kg * com[k];
+    mass += item.weight_kg;
+  }
+  return {moment[0] / mass, moment[1] / mass, moment[2] / mass};
+}
+
+double stack_height_m(const PalletConfig& config) {
+  if (config.items.empty()) return config.base_dims_m[2];
+  double top = config.items.front().top_z();
+  for (const Item& item : config.items) top = std::max(top, item.top_z());
+  return top;
+}
+
+double item_overhang_m(const Item& item, const Vec3& base_dims_m) {
+  const double hl = base_dims_m[0] / 2.0;
+  const double hw = base_dims_m[1] / 2.0;
+  double overhang = 0.0;
+  for (const Vec2& c : item_footprint(item)) {
+    overhang = std::max({overhang, std::abs(c[0]) - hl, std::abs(c[1]) - hw});
+  }
+  return overhang;
+}
+
+double overhang_m(const PalletConfig& config) {
+  double overhang = 0.0;
+  for (const Item& item : config.items) {
+    overhang = std::max(overhang, item_overhang_m(item, config.base_dims_m));
+  }
+  return overhang;
+}
+
+std::array<Vec2, 4> item_footprint(const Item& item) {
+  const auto [c, s] = cos_sin_deg(item.orientation_deg);
+  const double hl = item.dims_m[0] / 2.0;
+  const double hw = item.dims_m[1] / 2.0;
+  static constexpr Vec2 kSigns[4] = {{-1.0, -1.0}, {1.0, -1.0}, {1.0, 1.0}, {-1.0, 1.0}};
+  std::array<Vec2, 4> corners{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double lx = kSigns[i][0] * hl;
+    const double ly = kSigns[i][1] * hw;
+    corners[i] = {item.position[0] + c * lx - s * ly, item.position[1] + s * lx + c * ly};
+  }
+  return corners;
+}
+
+double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  std::vector<Vec2> clipped = a;
+  for (std::size_t i = 0; i < b.size() && !clipped.empty(); ++i) {
+    clipped = clip_by_edge(clipped, b[i], b[(i + 1) % b.size()]);
+  }
+  return clipped.size() < 3 ? 0.0 : std::abs(signed_area(clipped));
+}
+
+double footprint_overlap_area(const Item& a, const Item& b) {
+  return convex_overlap_area(footprint_polygon(a), footprint_polygon(b));
+}
+
+std::vector<double> support_fractions(const PalletConfig& config, double tolerance_m) {
+  const double deck_top = config.base_dims_m[2];
+  const std::vector<Vec2> deck = deck_polygon(config.base_dims_m);
+  std::vector<double> fractions;
+  fractions.reserve(config.items.size());
+  for (std::size_t i = 0; i < config.items.size(); ++i) {
+    const Item& item = config.items[i];
+    const double area = item.dims_m[0] * item.dims_m[1];
+    const double bottom = item.position[2];
+    double supported = 0.0;
+    if (std::abs(bottom - deck_top) <= tolerance_m) {
+      supported = convex_overlap_area(footprint_polygon(item), deck);
+    } else {
+      for (std::size_t j = 0; j < config.items.size(); ++j) {
+        const Item& other = config.items[j];
+        if (j != i && std::abs(other.top_z() - bottom) <= tolerance_m) {
+          supported += footprint_overlap_area(item, other);
+        }
+      }
+    }
+    fractions.push_back(area > 0.0 ? std::clamp(supported / area, 0.0, 1.0) : 0.0);
+  }
+  return fractions;
+}
+
+}  // namespace pb

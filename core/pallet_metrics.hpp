@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// Quantities derived from a PalletConfig: mass, centre of mass, height, overhang, support.
+// Footprints account for item yaw (the reference system ignored it).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/item.hpp"
+#include "core/pallet_config.hpp"
+#include "core/vec3.hpp"
+
+namespace pb {
+
+/// Base mass plus every item's weight.
+double total_mass_kg(const PalletConfig& config);
+
+/// Mass-weighted centre of mass of base (at half the base height, centred) and items (their
+/// geometric centres), in the pallet frame.
+Vec3 composite_com_m(const PalletConfig& config);
+
+/// Top of the highest item, or the deck height when there are no items.
+double stack_height_m(const PalletConfig& config);
+
+/// The largest distance any item's (yawed) footprint reaches beyond the pallet's edge along X or
+/// Y; 0 when every item is within the footprint (never negative, as in the reference).
+double overhang_m(const PalletConfig& config);
+
+/// How far this item's (yawed) footprint reaches beyond the edge of a base of `base_dims_m`
+/// along X or Y; 0 when it is within the footprint.
+double item_overhang_m(const Item& item, const Vec3& base_dims_m);
+
+/// Corners of the item's yawed footprint in the pallet XY plane, counter-clockwise.
+std::array<Vec2, 4> item_footprint(const Item& item);
+
+/// Area of the intersection of two convex polygons given counter-clockwise (m^2).
+double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
+
+/// Overlap area of two items' footprints (m^2).
+double footprint_overlap_area(const Item& a, const Item& b);
+
+/// Per item, the fraction of its footprint area resting on something: the pallet deck (items
+/// whose bottom is within `tolerance_m` of the deck top, clipped to the deck's rectangle) or items
+/// whose top is within `tolerance_m` of its bottom. Overlapping supports are not double-counted
+/// beyond 1 (the fraction is clamped to [0, 1]; supports under one item do not overlap in a valid
+/// layout).
+std::vector<double> support_fractions(const PalletConfig& config, double tolerance_m = 0.001);
+
+}  // namespace pb

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+#include "core/quasi_static.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "core/pallet_metrics.hpp"
+
+namespace pb {
+
+namespace {
+
+constexpr double kTouch = 0.001;
+// Footprints sharing less than this (m^2) touch along an edge: neighbours, not a support.
+constexpr double kMinSupportArea = 1e-4;
+
+QuasiStaticLimit weakest(const std::vector<QuasiStaticLimit>& limits) {
+  if (limits.empty()) return {};
+  return *std::min_element(limits.begin(), limits.end(), [](const auto& a, const auto& b) {
+    return a.accel_mps2 < b.accel_mps2;
+  });
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << v;
+  return s.str();
+}
+
+// Half-extents of an item's yawed footprint along X and Y.
+std::array<double, 2> half_extents(const Item& item) {
+  const double yaw = item.orientation_deg * std::numbers::pi / 180.0;
+  const double c = std::abs(std::cos(yaw)), s = std::abs(std::sin(yaw));
+  return {0.5 * (c * item.dims_m[0] + s * item.dims_m[1]),
+          0.5 * (s * item.dims_m[0] + c * item.dims_m[1])};
+}
+
+}  // namespace
+
+QuasiStaticLimit QuasiStaticBounds::weakest_along() const {
+  return weakest(along);
+}
+QuasiStaticLimit QuasiStaticBounds::weakest_across() const {
+  return weakest(across);
+}
+
+QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction) {
+  QuasiStaticBounds out;
+  const double g = kGravity;
+  const double mu_belt = friction.belt_pallet.mu_s;
+  for (auto* list : {&out.along, &out.across}) {
+    list->push_back({mu_belt * g, FailureMode::pallet_slip,
+                     "the pallet slips on the belt (mu " + fmt(mu_belt) + ")", -1});
+  }
+  // The whole load over the pallet's edge (the pallet's bottom is the pivot).
+  const Vec3 com = composite_com_m(config);
+  if (com[2] > 0.0) {
+    out.along.push_back({g * (config.base_dims_m[0] / 2 - std::abs(com[0])) / com[2],
+                         FailureMode::tip_over, "the loaded pallet tips over its edge", -1});
+    out.across.push_back({g * (config.base_dims_m[1] / 2 - std::abs(com[1])) / com[2],
+                          FailureMode::tip_over, "the loaded pallet tips over its edge", -1});
+  }
+  if (config.wrap != WrapType::none) return out;
+
+  const auto& items = config.items;
+  const std::size_t n = items.size();
+  const double deck = config.base_dims_m[2];
+  // carries[i]: items resting directly on item i.
+  std::vector<std::vector<std::size_t>> carries(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      if (i != j && std::abs(items[j].position[2] - items[i].top_z()) <= kTouch &&
+          footprint_overlap_area(items[i], items[j]) > kMinSupportArea) {
+        carries[i].push_back(j);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Item& item = items[i];
+    const bool on_deck = std::abs(item.position[2] - deck) <= kTouch;
+    const double mu = on_deck ? friction.item_pallet.mu_s : friction.item_item.mu_s;
+    const std::string name = "item " + std::to_string(i);
+    for (auto* list : {&out.along, &out.across}) {
+      list->push_back({mu * g, FailureMode::top_item_slide,
+                       name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
+                           fmt(mu) + ")",
+                       static_cast<int>(i)});
+    }
+    // The sub-stack item i carries, directly or not, tips over item i's bottom edge.
+    std::vector<bool> in(n, false);
+    std::vector<std::size_t> todo{i};
+    double mass = 0.0, moment_x = 0.0, moment_y = 0.0, moment_z = 0.0;
+    while (!todo.empty()) {
+      const std::size_t k = todo.back();
+      todo.pop_back();
+      if (in[k]) continue;
+      in[k] = true;
+      const Vec3 c = items[k].center_of_mass();
+      mass += items[k].weight_kg;
+      moment_x += items[k].weight_kg * c[0];
+      moment_y += items[k].weight_kg * c[1];
+      moment_z += items[k].weight_kg * c[2];
+      for (std::size_t j : carries[k]) todo.push_back(j);
+    }
+    const double h = moment_z / mass - item.position[2];
+    const auto half = half_extents(item);
+    const double off_x = std::abs(moment_x / mass - item.position[0]);
+    const double off_y = std::abs(moment_y / mass - item.position[1]);
+    const std::string what = "the stack from " + name + " up tips over its edge";
+    out.along.push_back({g * std::max(0.0, half[0] - off_x) / h, FailureMode::top_item_slide, what,
+                         static_cast<int>(i)});
+    out.across.push_back({g * std::max(0.0, half[1] - off_y) / h, FailureMode::top_item_slide, what,
+                          static_cast<int>(i)});
+  }
+  return out;
+}
+
+}  // namespace pb

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// Closed-form quasi-static bounds: the acceleration at which each interface would start to slip
+// (mu g) and each sub-stack would start to tip (g (b/2) / h), along and across the belt. The
+// cheapest rung of the fidelity ladder, and the seed of every envelope search.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/enums.hpp"
+#include "core/friction.hpp"
+#include "core/pallet_config.hpp"
+
+namespace pb {
+
+inline constexpr double kGravity = 9.81;
+
+struct QuasiStaticLimit {
+  double accel_mps2 = 0.0;
+  FailureMode mode = FailureMode::no_failure;
+  std::string what;  ///< "item 7 slips on item 3 (mu 0.34)"
+  int item = -1;     ///< the item concerned, -1 for the pallet
+};
+
+struct QuasiStaticBounds {
+  std::vector<QuasiStaticLimit> along;   ///< every mechanism along the belt (X)
+  std::vector<QuasiStaticLimit> across;  ///< every mechanism across it (Y)
+  QuasiStaticLimit weakest_along() const;
+  QuasiStaticLimit weakest_across() const;
+};
+
+/// Mechanisms: the pallet slipping on the belt; the whole load tipping over the pallet's edge;
+/// and, for unwrapped loads (a wrap holds its items), every item slipping on what carries it and
+/// every sub-stack (an item and all it carries) tipping over that item's bottom edge. Frictions
+/// are the effective (frost-penalised) static values.
+QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction);
+
+}  // namespace pb

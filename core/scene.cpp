@@ -1,0 +1,287 @@
+// SPDX-License-Identifier: MIT
+#include "core/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "core/json_io.hpp"
+#include "core/pallet_type.hpp"
+#include "core/validation.hpp"
+#include "core/wrap.hpp"
+
+namespace pb {
+
+namespace {
+
+// Shortest text that reads back as the same double.
+std::string num(double v) {
+  return Json(v).dump();
+}
+
+template <std::size_t N>
+std::string nums(const std::array<double, N>& values) {
+  std::string out;
+  for (std::size_t i = 0; i < N; ++i) out += (i ? " " : "") + num(values[i]);
+  return out;
+}
+
+// An item's box in world-aligned terms at rest (the pallet frame is the world at t = 0).
+struct Box {
+  double x0, x1, y0, y1, z0, z1;
+  bool axis_aligned;  // yaw is a multiple of 90 degrees
+};
+
+Box item_box(const Item& item) {
+  const double yaw = item.orientation_deg * std::numbers::pi / 180.0;
+  const double c = std::abs(std::cos(yaw)), s = std::abs(std::sin(yaw));
+  const double hx = 0.5 * (c * item.dims_m[0] + s * item.dims_m[1]);
+  const double hy = 0.5 * (s * item.dims_m[0] + c * item.dims_m[1]);
+  const double rem = std::fmod(std::abs(item.orientation_deg), 90.0);
+  return {item.position[0] - hx,          item.position[0] + hx, item.position[1] - hy,
+          item.position[1] + hy,          item.position[2],      item.position[2] + item.dims_m[2],
+          rem < 1e-9 || 90.0 - rem < 1e-9};
+}
+
+double interval_gap(double a0, double a1, double b0, double b1) {
+  return std::max(b0 - a1, a0 - b1);  // negative when the intervals overlap
+}
+
+constexpr double kTouch = 0.001;  // surfaces within 1 mm are in contact (validation's tolerance)
+
+// Per item, how far to pull in each world-aligned face (-x, +x, -y, +y) to leave `gap` between
+// neighbouring cartons.
+std::vector<std::array<double, 4>> face_shrink(const std::vector<Box>& boxes, double gap) {
+  std::vector<std::array<double, 4>> shrink(boxes.size(), {0, 0, 0, 0});
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+      const Box& a = boxes[i];
+      const Box& b = boxes[j];
+      if (!a.axis_aligned || !b.axis_aligned) continue;
+      if (interval_gap(a.z0, a.z1, b.z0, b.z1) > -kTouch) continue;  // not side by side
+      const double gx = interval_gap(a.x0, a.x1, b.x0, b.x1);
+      const double gy = interval_gap(a.y0, a.y1, b.y0, b.y1);
+      if (gy < -kTouch && gx >= -kTouch && gx < gap) {  // facing along X
+        const double pull = 0.5 * (gap - std::max(gx, 0.0));
+        const bool a_first = a.x1 <= b.x0 + kTouch;
+        shrink[i][a_first ? 1 : 0] = std::max(shrink[i][a_first ? 1 : 0], pull);
+        shrink[j][a_first ? 0 : 1] = std::max(shrink[j][a_first ? 0 : 1], pull);
+      } else if (gx < -kTouch && gy >= -kTouch && gy < gap) {  // facing along Y
+        const double pull = 0.5 * (gap - std::max(gy, 0.0));
+        const bool a_first = a.y1 <= b.y0 + kTouch;
+        shrink[i][a_first ? 3 : 2] = std::max(shrink[i][a_first ? 3 : 2], pull);
+        shrink[j][a_first ? 2 : 3] = std::max(shrink[j][a_first ? 2 : 3], pull);
+      }
+    }
+  }
+  return shrink;
+}
+
+bool can_touch(const Box& a, const Box& b, double reach) {
+  return interval_gap(a.z0, a.z1, b.z0, b.z1) <= kTouch &&
+         interval_gap(a.x0, a.x1, b.x0, b.x1) < reach &&
+         interval_gap(a.y0, a.y1, b.y0, b.y1) < reach;
+}
+
+const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::euler:
+      return "Euler";
+    case Integrator::implicit:
+      return "implicit";
+    case Integrator::rk4:
+      return "RK4";
+  }
+  return "Euler";
+}
+const char* solver_name(Solver s) {
+  switch (s) {
+    case Solver::newton:
+      return "Newton";
+    case Solver::pgs:
+      return "PGS";
+    case Solver::cg:
+      return "CG";
+  }
+  return "Newton";
+}
+
+}  // namespace
+
+std::string build_mjcf(const PalletConfig& config, const ContactFriction& friction,
+                       const SceneOptions& o) {
+  const std::size_t n = config.items.size();
+  const Vec3& base = config.base_dims_m;
+  const double deck = base[2];
+  std::vector<Box> boxes;
+  boxes.reserve(n);
+  for (const auto& item : config.items) boxes.push_back(item_box(item));
+  const auto shrink = face_shrink(boxes, o.lateral_gap_m);
+
+  // Contact pairs: belt/pallet, pallet/item for items on the deck, item/item where they can touch.
+  struct Pair {
+    std::string a, b;
+    const FrictionValue* mu;
+  };
+  std::vector<Pair> pairs{{"belt", "pallet", &friction.belt_pallet}};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::abs(boxes[i].z0 - deck) <= kTouch) {
+      pairs.push_back({"pallet", "item_" + std::to_string(i), &friction.item_pallet});
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      if (can_touch(boxes[i], boxes[j], o.neighbour_distance_m)) {
+        pairs.push_back(
+            {"item_" + std::to_string(i), "item_" + std::to_string(j), &friction.item_item});
+      }
+    }
+  }
+  const WrapStiffness wrap = o.wrap_welds ? wrap_stiffness(config.wrap) : WrapStiffness{};
+  const int welds = wrap.stiffness_n_per_m > 0.0 ? static_cast<int>(n) : 0;
+  // A box-box pair makes at most 8 contacts; a pyramidal condim-3 contact makes 4 rows (elliptic
+  // 3); a weld 6. The stack holds the solver's dense and sparse work arrays.
+  const int nconmax = o.nconmax > 0 ? o.nconmax : 8 * static_cast<int>(pairs.size());
+  const int njmax = o.njmax > 0 ? o.njmax : 4 * nconmax + 6 * welds;
+  const int nstack = o.nstack > 0 ? o.nstack : 400000 + 200 * njmax;
+
+  std::ostringstream x;
+  x << "<mujoco model=\""
+    << "pallet"
+    << "\">\n"
+    << "  <!-- PalletBallet scene: " << n << " items, wrap " << to_string(config.wrap) << ", "
+    << pairs.size() << " contact pairs, " << welds << " welds -->\n"
+    << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+    << "  <option timestep=\"" << num(o.timestep_s) << "\" integrator=\""
+    << integrator_name(o.integrator) << "\" solver=\"" << solver_name(o.solver) << "\" cone=\""
+    << (o.cone == Cone::pyramidal ? "pyramidal" : "elliptic")
+    << "\" jacobian=\"sparse\" impratio=\"" << num(o.impratio) << "\" iterations=\"" << o.iterations
+    << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
+    << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
+    << "\"/>\n"
+    << "  <default><geom contype=\"0\" conaffinity=\"0\" condim=\"3\"/></default>\n"
+    << "  <worldbody>\n";
+  // The belt: its top face at z = 0, wide enough that the pallet never runs off it.
+  const double belt_h = 0.05;
+  x << "    <body name=\"belt\" pos=\"0 0 " << num(-belt_h) << "\">\n"
+    << "      <joint name=\"belt_x\" type=\"slide\" axis=\"1 0 0\"/>\n"
+    << "      <joint name=\"belt_y\" type=\"slide\" axis=\"0 1 0\"/>\n"
+    << "      <inertial pos=\"0 0 0\" mass=\"" << num(o.belt_mass_kg)
+    << "\" diaginertia=\"1 1 1\"/>\n"
+    << "      <geom name=\"belt\" type=\"box\" size=\"" << num(base[0] + 1.0) << " "
+    << num(base[1] + 1.0) << " " << num(belt_h) << "\"/>\n"
+    << "    </body>\n";
+  {
+    const double m = config.base_mass_kg;
+    const Vec3 h{base[0] / 2, base[1] / 2, base[2] / 2};
+    x << "    <body name=\"pallet\" pos=\"0 0 " << num(h[2]) << "\">\n"
+      << "      <freejoint name=\"pallet_free\"/>\n"
+      << "      <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
+      << num(m / 3 * (h[1] * h[1] + h[2] * h[2])) << " " << num(m / 3 * (h[0] * h[0] + h[2] * h[2]))
+      << " " << num(m / 3 * (h[0] * h[0] + h[1] * h[1])) << "\"/>\n"
+      << "      <geom name=\"pallet\" type=\"box\" size=\"" << num(h[0]) << " " << num(h[1]) << " "
+      << num(h[2]) << "\"/>\n"
+      << "    </body>\n";
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Item& item = config.items[i];
+    const double m = item.weight_kg;
+    const Vec3& d = item.dims_m;
+    const double yaw = item.orientation_deg * std::numbers::pi / 180.0;
+    const double cy = std::cos(yaw), sy = std::sin(yaw);
+    // The collision box: the item's box with faces pulled in where a neighbour is too close,
+    // expressed in the item's own frame (yaw is a multiple of 90 degrees wherever it applies).
+    const auto& s = shrink[i];
+    const double wx = 0.5 * (s[0] - s[1]), wy = 0.5 * (s[2] - s[3]);  // world offset of the centre
+    const double lx = cy * wx + sy * wy, ly = -sy * wx + cy * wy;     // in the item frame
+    const double sx_world = 0.5 * (s[0] + s[1]), sy_world = 0.5 * (s[2] + s[3]);
+    const bool swapped = std::abs(sy) > std::abs(cy);
+    const double hx = d[0] / 2 - (swapped ? sy_world : sx_world);
+    const double hy = d[1] / 2 - (swapped ? sx_world : sy_world);
+    x << "    <body name=\"item_" << i << "\" pos=\"" << num(item.position[0]) << " "
+      << num(item.position[1]) << " " << num(item.position[2] + d[2] / 2) << "\" quat=\""
+      << num(std::cos(yaw / 2)) << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n"
+      << "      <freejoint name=\"item_" << i << "_free\"/>\n"
+      << "      <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
+      << num(m / 12 * (d[1] * d[1] + d[2] * d[2])) << " "
+      << num(m / 12 * (d[0] * d[0] + d[2] * d[2])) << " "
+      << num(m / 12 * (d[0] * d[0] + d[1] * d[1])) << "\"/>\n"
+      << "      <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " " << num(ly)
+      << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n"
+      << "    </body>\n";
+  }
+  x << "  </worldbody>\n  <actuator>\n";
+  const double kv = o.belt_kv_ratio * o.belt_mass_kg / o.timestep_s;
+  x << "    <velocity name=\"belt_vx\" joint=\"belt_x\" kv=\"" << num(kv) << "\"/>\n"
+    << "    <velocity name=\"belt_vy\" joint=\"belt_y\" kv=\"" << num(kv) << "\"/>\n"
+    << "  </actuator>\n  <contact>\n";
+  // One sliding-friction coefficient per pair: MuJoCo's cone has a single coefficient, and the
+  // onset of slip (what we predict) is governed by static friction.
+  for (const auto& p : pairs) {
+    x << "    <pair geom1=\"" << p.a << "\" geom2=\"" << p.b << "\" condim=\"3\" friction=\""
+      << num(p.mu->mu_s) << " " << num(p.mu->mu_s) << " 0.005 0.0001 0.0001\" solref=\""
+      << nums(o.contact_solref) << "\" solimp=\"" << nums(o.contact_solimp) << "\"/>\n";
+  }
+  x << "  </contact>\n";
+  if (welds > 0) {
+    x << "  <equality>\n";
+    for (std::size_t i = 0; i < n; ++i) {
+      const WeldParams w = weld_params(wrap, config.items[i].weight_kg, config.base_mass_kg);
+      x << "    <weld name=\"wrap_" << i << "\" body1=\"item_" << i
+        << "\" body2=\"pallet\" solref=\"" << nums(w.solref) << "\" solimp=\"" << nums(w.solimp)
+        << "\"/>\n";
+    }
+    x << "  </equality>\n";
+  }
+  x << "</mujoco>\n";
+  return x.str();
+}
+
+Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options,
+                          const FrictionModel& friction_model) {
+  Diagnostics diags = validate(config);
+  if (has_errors(diags)) return Result<Scene>::failure(std::move(diags));
+  auto friction = friction_model.for_pallet(config);
+  if (!friction) return Result<Scene>::failure(std::move(friction.diagnostics));
+  if (!(options.timestep_s > 0.0) || !(options.belt_mass_kg > 0.0)) {
+    return Result<Scene>::failure("", "the timestep and the belt mass must be positive");
+  }
+
+  Scene scene;
+  scene.config = config;
+  scene.options = options;
+  scene.friction = *friction.value;
+  scene.mjcf = build_mjcf(config, scene.friction, options);
+  auto model = compile_mjcf(scene.mjcf);
+  if (!model) return Result<Scene>::failure(std::move(model.diagnostics));
+  scene.model = std::move(*model.value);
+
+  const mjModel* m = scene.model.get();
+  SceneLayout& l = scene.layout;
+  auto body = [&](const std::string& name) { return mj_name2id(m, mjOBJ_BODY, name.c_str()); };
+  auto joint = [&](const std::string& name) { return mj_name2id(m, mjOBJ_JOINT, name.c_str()); };
+  l.belt_body = body("belt");
+  l.pallet_body = body("pallet");
+  const int bx = joint("belt_x"), by = joint("belt_y"), pf = joint("pallet_free");
+  l.belt_x_qpos = m->jnt_qposadr[bx];
+  l.belt_y_qpos = m->jnt_qposadr[by];
+  l.belt_x_dof = m->jnt_dofadr[bx];
+  l.belt_y_dof = m->jnt_dofadr[by];
+  l.belt_x_act = mj_name2id(m, mjOBJ_ACTUATOR, "belt_vx");
+  l.belt_y_act = mj_name2id(m, mjOBJ_ACTUATOR, "belt_vy");
+  l.pallet_qpos = m->jnt_qposadr[pf];
+  l.pallet_dof = m->jnt_dofadr[pf];
+  for (std::size_t i = 0; i < config.items.size(); ++i) {
+    const std::string name = "item_" + std::to_string(i);
+    l.item_bodies.push_back(body(name));
+    const int j = joint(name + "_free");
+    l.item_qpos.push_back(m->jnt_qposadr[j]);
+    l.item_dofs.push_back(m->jnt_dofadr[j]);
+  }
+  l.contact_pairs = m->npair;
+  l.welds = m->neq;
+  return Result<Scene>{std::move(scene), std::move(diags)};
+}
+
+}  // namespace pb

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// PalletConfig -> MJCF text -> compiled MuJoCo model, modelling no more than the scene needs:
+// boxes on free joints, a velocity-driven belt (X, and Y for curves), explicit contact pairs only
+// between surfaces that can touch (each with its own friction from the temperature model), a
+// lateral gap between neighbouring cartons, wrap as welds of a physical stiffness, and buffers
+// sized from the scene.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/diagnostic.hpp"
+#include "core/engine.hpp"
+#include "core/friction.hpp"
+#include "core/pallet_config.hpp"
+
+namespace pb {
+
+enum class Integrator { euler, implicit, rk4 };
+enum class Solver { newton, pgs, cg };
+enum class Cone { pyramidal, elliptic };
+
+/// Numerical settings of a scene. Defaults are the shipped configuration (see core/README.md for
+/// the measurements behind each).
+struct SceneOptions {
+  double timestep_s = 0.002;
+  Integrator integrator = Integrator::euler;  ///< implicit adds false creep with a velocity belt
+  Solver solver = Solver::newton;
+  Cone cone = Cone::pyramidal;
+  double impratio = 1.0;
+  int iterations = 100;
+  double tolerance = 1e-8;
+  /// Contact softness. A stiff impedance keeps tip thresholds within a fraction of a percent of
+  /// closed form (the soft default tips 2-3 % early: the rear edge sinks in).
+  std::array<double, 2> contact_solref{0.02, 1.0};
+  std::array<double, 5> contact_solimp{0.99, 0.999, 0.001, 0.5, 2.0};
+  /// Belt: a heavy body on slide joints driven by velocity actuators with kv = ratio * M / dt.
+  /// Explicit (Euler) integration of kv is stable for ratio < 2; 1 is deadbeat tracking.
+  double belt_mass_kg = 2000.0;
+  double belt_kv_ratio = 1.0;
+  /// Neighbouring cartons closer than this are pulled apart to this gap (each face by half of
+  /// what is missing): touching faces cost 2-3x and add nothing.
+  double lateral_gap_m = 0.0015;
+  /// Items whose boxes come within this distance horizontally (with touching or overlapping
+  /// heights) get a contact pair; farther ones cannot touch before a detector fires.
+  double neighbour_distance_m = 0.05;
+  bool wrap_welds = true;  ///< false: ignore wrap (for studies)
+  /// Buffer sizes; <= 0 means sized from the scene.
+  int nconmax = 0;
+  int njmax = 0;
+  int nstack = 0;
+
+  bool operator==(const SceneOptions&) const = default;
+};
+
+/// Where things are in the compiled model.
+struct SceneLayout {
+  int belt_body = -1;
+  int pallet_body = -1;
+  std::vector<int> item_bodies;
+  int belt_x_qpos = -1, belt_y_qpos = -1;
+  int belt_x_dof = -1, belt_y_dof = -1;
+  int belt_x_act = -1, belt_y_act = -1;
+  int pallet_qpos = -1;  ///< free joint: 7 qpos (pos, quat), 6 dofs from pallet_dof
+  int pallet_dof = -1;
+  std::vector<int> item_qpos;
+  std::vector<int> item_dofs;
+  int contact_pairs = 0;
+  int welds = 0;
+};
+
+struct Scene {
+  PalletConfig config;
+  SceneOptions options;
+  ContactFriction friction;
+  std::string mjcf;
+  ModelPtr model;
+  SceneLayout layout;
+};
+
+/// The MJCF text of a pallet on the belt (what `palletballet-cli mjcf` writes; MuJoCo's viewer
+/// opens it). Pure text: no validation, no engine.
+std::string build_mjcf(const PalletConfig& config, const ContactFriction& friction,
+                       const SceneOptions& options);
+
+/// Validates the pallet (errors make it fail; a pallet that cannot exist is not simulated), takes
+/// friction from `friction_model`, writes and compiles the MJCF.
+Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options = {},
+                          const FrictionModel& friction_model = FrictionModel::builtin());
+
+}  // namespace pb

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+// Settle once, then probe: run one conveyor profile from the rest state, detect failures as they
+// happen, stop as soon as the outcome is decided, and never return a verdict from a run MuJoCo
+// has silently broken.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/conveyor_profile.hpp"
+#include "core/detectors.hpp"
+#include "core/diagnostic.hpp"
+#include "core/engine.hpp"
+#include "core/scene.hpp"
+#include "core/trace.hpp"
+
+namespace pb {
+
+/// The MuJoCo state a probe starts from (2.2.2 has no mj_getState; these are the fields that make
+/// a restart bitwise equal to a continued run), plus the detector baselines.
+struct RestState {
+  std::vector<double> qpos;
+  std::vector<double> qvel;
+  std::vector<double> qacc_warmstart;
+  Pose pallet;
+  std::vector<Pose> items;
+  double settle_time_s = 0.0;
+  double residual_speed_mps = 0.0;  ///< fastest body when it was declared at rest
+};
+
+struct SettleOptions {
+  double rest_speed_mps = 0.002;  ///< every body slower than this (and ...)
+  double rest_spin_radps = 0.02;  ///< ... turning slower than this: at rest
+  double min_time_s = 0.05;
+  double max_time_s = 3.0;  ///< a load still moving then is a build defect
+  double check_every_s = 0.01;
+};
+
+enum class Outcome { safe, failed, unstable };
+std::string_view to_string(Outcome outcome);
+
+struct SimOptions {
+  DetectorThresholds thresholds;
+  bool fail_fast = true;   ///< stop at the first failure
+  bool early_stop = true;  ///< stop once the load co-moves with the belt after the last breakpoint
+  double comove_speed_mps = 0.001;  ///< co-moving: every body within this of the belt's velocity
+  double comove_spin_radps = 0.01;
+  bool record_trace = true;  ///< keep every step's poses (replays, plots); off for searches
+};
+
+struct SimResult {
+  Outcome outcome = Outcome::safe;
+  std::optional<FailureEvent> failure;
+  std::string reason;  ///< why the run is unstable (empty otherwise)
+  Trace trace;
+  int steps = 0;
+  double sim_time_s = 0.0;     ///< profile time reached
+  bool stopped_early = false;  ///< co-moving after the last breakpoint: nothing could change
+  double wall_ms = 0.0;
+};
+
+/// Owns one mjData for a scene and reuses it for every probe (creating one costs milliseconds).
+/// Not thread-safe: one Simulator per thread; the Scene must outlive it.
+class Simulator {
+ public:
+  /// Fails if MuJoCo cannot allocate the data.
+  static Result<Simulator> create(const Scene& scene);
+
+  /// Lets the load come to rest on a still belt. Fails (a build defect, not a conveyor failure)
+  /// if it is still moving after max_time_s, or if the run is unstable.
+  Result<RestState> settle(const SettleOptions& options = {});
+
+  /// Runs `profile` from `rest` (bodies given the profile's initial speed, riding along).
+  SimResult run(const RestState& rest, const ConveyorProfile& profile,
+                const SimOptions& options = {});
+
+  const Scene& scene() const { return *scene_; }
+
+ private:
+  Simulator(const Scene& scene, DataPtr data) : scene_(&scene), data_(std::move(data)) {}
+  void load(const RestState& rest, double initial_speed);
+  Pose body_pose(int body) const;
+  void read_items(std::vector<Pose>& out) const;
+  double max_relative_speed(double belt_vx, double belt_vy, double* spin) const;
+
+  const Scene* scene_;
+  DataPtr data_;
+};
+
+}  // namespace pb

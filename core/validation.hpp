@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: MIT
+// Is a PalletConfig a pallet that can exist? Syntactic (finite, in range) and physical
+// (no interpenetration, nothing floating, overhang, rating, height) rules.
+#pragma once
+
+#include "core/catalog.hpp"
+#include "core/diagnostic.hpp"
+#include "core/pallet_config.hpp"
+
+namespace pb {
+
+struct ValidationLimits {
+  double penetration_tolerance_m = 0.001;  ///< overlap allowed between two items' volumes
+  double support_tolerance_m = 0.001;      ///< gap allowed between an item and what carries it
+  /// Reach of any item's footprint beyond the deck edge. 10 cm: beyond this a carton's own
+  /// centre region hangs off the deck, and the scanner's top-layer anomalies stay under it.
+  double max_overhang_m = 0.10;
+  /// Gross mass cap (base + items). 1,200 kg, the reference's cap; the lower of this and the base
+  /// type's rated load plus tare applies.
+  double max_gross_mass_kg = 1200.0;
+  double max_stack_height_m = 1.85;  ///< top of the load above the floor
+  double low_support_warning = 0.5;  ///< warn when an item rests on less than this fraction
+  bool require_known_skus = false;   ///< every item's SKU must be in the catalog
+};
+
+/// Every rule, in document order. Errors make the pallet unusable; warnings (low support,
+/// base dimensions far from the type's nominal ones, an item's weight or dims differing from its
+/// catalog entry) do not. Pointers are those of pallet_to_json(): "/items/3/dims_m/2".
+/// `catalog` is used for SKU checks (nullptr: Catalog::builtin()).
+Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits = {},
+                     const Catalog* catalog = nullptr);
+
+}  // namespace pb

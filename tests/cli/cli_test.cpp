@@ -1,0 +1,273 @@
+// SPDX-License-Identifier: MIT
+// End-to-end runs of palletballet-cli: every verb, its --help, and bad input.
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QProcess>
+#include <QTemporaryDir>
+#include <QtTest>
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  QByteArray out;
+  QByteArray err;
+  QJsonDocument json() const { return QJsonDocument::fromJson(out); }
+};
+
+Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
+  QProcess p;
+  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
+  p.setArguments(args);
+  p.start();
+  if (!stdin_data.isEmpty()) p.write(stdin_data);
+  p.closeWriteChannel();
+  if (!p.waitForFinished(120000)) {
+    p.kill();
+    p.waitForFinished();
+  }
+  Run r;
+  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+  r.out = p.readAllStandardOutput();
+  r.err = p.readAllStandardError();
+  return r;
+}
+
+QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {
+  const QString path = dir.filePath(name);
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly)) return {};
+  f.write(data);
+  return path;
+}
+
+}  // namespace
+
+class CliTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void usageAndUnknownVerb() {
+    Run none = cli({});
+    QCOMPARE(none.exit_code, 2);
+    QVERIFY(none.out.contains("verbs:"));
+    Run help = cli({QStringLiteral("--help")});
+    QCOMPARE(help.exit_code, 0);
+    Run bad = cli({QStringLiteral("frobnicate")});
+    QCOMPARE(bad.exit_code, 2);
+    QVERIFY(bad.err.contains("unknown verb 'frobnicate'"));
+  }
+
+  void everyVerbHasHelp_data() {
+    QTest::addColumn<QString>("verb");
+    for (const char* v : {"scenarios", "catalog", "validate", "random", "friction"}) {
+      QTest::newRow(v) << QString::fromLatin1(v);
+    }
+  }
+  void everyVerbHasHelp() {
+    QFETCH(QString, verb);
+    Run r = cli({verb, QStringLiteral("--help")});
+    QCOMPARE(r.exit_code, 0);
+    QVERIFY2(r.out.startsWith("usage: palletballet-cli " + verb.toUtf8()), r.out.constData());
+    Run unknown = cli({verb, QStringLiteral("--no-such-flag")});
+    QCOMPARE(unknown.exit_code, 2);
+    QVERIFY2(unknown.err.contains("unknown option --no-such-flag"), unknown.err.constData());
+  }
+
+  void scenariosListAndShow() {
+    Run r = cli({QStringLiteral("scenarios")});
+    QCOMPARE(r.exit_code, 0);
+    const QJsonArray list = r.json().array();
+    QCOMPARE(list.size(), 7);
+    QCOMPARE(list.first().toObject().value(QStringLiteral("slug")).toString(),
+             QStringLiteral("stable-dairy-slab"));
+    QCOMPARE(list.last().toObject().value(QStringLiteral("slug")).toString(),
+             QStringLiteral("random-scanner-feed"));
+
+    Run one = cli({QStringLiteral("scenarios"), QStringLiteral("frozen-meat-sprint")});
+    QCOMPARE(one.exit_code, 0);
+    const QJsonObject s = one.json().object();
+    QCOMPARE(s.value(QStringLiteral("pallet")).toObject().value(QStringLiteral("items")).toArray().size(),
+             24);
+    QCOMPARE(s.value(QStringLiteral("suggested_profile"))
+                 .toObject()
+                 .value(QStringLiteral("accel_mps2"))
+                 .toDouble(),
+             3.2);
+
+    Run unknown = cli({QStringLiteral("scenarios"), QStringLiteral("no-such-scenario")});
+    QCOMPARE(unknown.exit_code, 2);
+    QVERIFY(unknown.err.contains("no curated scenario 'no-such-scenario'"));
+    QVERIFY(unknown.err.contains("stable-dairy-slab"));
+  }
+
+  void scenariosCheck() {
+    Run r = cli({QStringLiteral("scenarios"), QStringLiteral("--check")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    for (const QJsonValue& v : r.json().array()) {
+      const QJsonObject o = v.toObject();
+      QVERIFY(o.value(QStringLiteral("validation")).toObject().value(QStringLiteral("valid")).toBool());
+      QVERIFY(o.value(QStringLiteral("recipe_matches")).toBool());
+    }
+    QCOMPARE(r.err.count("ok      "), 7);
+  }
+
+  void catalog() {
+    Run all = cli({QStringLiteral("catalog")});
+    QCOMPARE(all.exit_code, 0);
+    QCOMPARE(all.json().array().size(), 30);
+    Run frozen = cli({QStringLiteral("catalog"), QStringLiteral("--env"), QStringLiteral("frozen")});
+    QCOMPARE(frozen.exit_code, 0);
+    for (const QJsonValue& v : frozen.json().array()) {
+      QCOMPARE(v.toObject().value(QStringLiteral("default_env")).toString(), QStringLiteral("frozen"));
+    }
+    QVERIFY(frozen.json().array().size() > 0 && frozen.json().array().size() < 30);
+    Run bad = cli({QStringLiteral("catalog"), QStringLiteral("--env"), QStringLiteral("tropical")});
+    QCOMPARE(bad.exit_code, 2);
+    QVERIFY(bad.err.contains("frozen, refrigerated, thawed or transitioning"));
+  }
+
+  void validateGoodFileAndStdin() {
+    QTemporaryDir dir;
+    Run scenario = cli({QStringLiteral("scenarios"), QStringLiteral("stable-dairy-slab")});
+    const QJsonObject pallet =
+        scenario.json().object().value(QStringLiteral("pallet")).toObject();
+    const QByteArray bytes = QJsonDocument(pallet).toJson();
+    const QString path = write_file(dir, QStringLiteral("pallet.json"), bytes);
+    Run file = cli({QStringLiteral("validate"), path});
+    QVERIFY2(file.exit_code == 0, file.err.constData());
+    QCOMPARE(file.json().object().value(QStringLiteral("valid")).toBool(), true);
+    QCOMPARE(file.json().object().value(QStringLiteral("items")).toInt(), 8);
+    Run stdin_run = cli({QStringLiteral("validate"), QStringLiteral("-")}, bytes);
+    QCOMPARE(stdin_run.exit_code, 0);
+    // A whole scenario file validates through its "pallet".
+    Run whole = cli({QStringLiteral("validate"), write_file(dir, QStringLiteral("s.json"), scenario.out)});
+    QCOMPARE(whole.exit_code, 0);
+  }
+
+  void validateReportsEveryErrorWithItsPointer() {
+    QTemporaryDir dir;
+    Run scenario = cli({QStringLiteral("scenarios"), QStringLiteral("stable-dairy-slab")});
+    QJsonObject pallet = scenario.json().object().value(QStringLiteral("pallet")).toObject();
+    QJsonArray items = pallet.value(QStringLiteral("items")).toArray();
+    QJsonObject first = items[0].toObject();
+    first[QStringLiteral("weight_kg")] = -3.0;
+    items[0] = first;
+    pallet[QStringLiteral("items")] = items;
+    pallet[QStringLiteral("wrap")] = QStringLiteral("duct-tape");
+    Run r = cli({QStringLiteral("validate"),
+                 write_file(dir, QStringLiteral("bad.json"), QJsonDocument(pallet).toJson())});
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY2(r.err.contains("/wrap: "), r.err.constData());
+
+    pallet[QStringLiteral("wrap")] = QStringLiteral("stretch");
+    Run r2 = cli({QStringLiteral("validate"),
+                  write_file(dir, QStringLiteral("bad2.json"), QJsonDocument(pallet).toJson())});
+    QCOMPARE(r2.exit_code, 2);
+    QVERIFY2(r2.err.contains("/items/0/weight_kg: "), r2.err.constData());
+  }
+
+  void validateBadInput() {
+    QTemporaryDir dir;
+    Run syntax = cli({QStringLiteral("validate"),
+                      write_file(dir, QStringLiteral("x.json"), QByteArrayLiteral("{\"items\": [}"))});
+    QCOMPARE(syntax.exit_code, 2);
+    QVERIFY(!syntax.err.isEmpty());
+    Run missing = cli({QStringLiteral("validate"), dir.filePath(QStringLiteral("nope.json"))});
+    QCOMPARE(missing.exit_code, 2);
+    QVERIFY(missing.err.contains("cannot open"));
+    Run no_arg = cli({QStringLiteral("validate")});
+    QCOMPARE(no_arg.exit_code, 2);
+    QVERIFY(no_arg.err.contains("missing argument"));
+    Run bad_limit = cli({QStringLiteral("validate"), QStringLiteral("-"),
+                         QStringLiteral("--max-height"), QStringLiteral("tall")});
+    QCOMPARE(bad_limit.exit_code, 2);
+    QVERIFY(bad_limit.err.contains("--max-height expects a number"));
+  }
+
+  void randomIsDeterministicAndValid() {
+    const QStringList args = {QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("42")};
+    Run a = cli(args);
+    Run b = cli(args);
+    QCOMPARE(a.exit_code, 0);
+    QCOMPARE(a.out, b.out);
+    QVERIFY(a.json().object().value(QStringLiteral("items")).toArray().size() > 0);
+    Run c = cli({QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("43")});
+    QVERIFY(a.out != c.out);
+    Run v = cli({QStringLiteral("validate"), QStringLiteral("-")}, a.out);
+    QVERIFY2(v.exit_code == 0, v.err.constData());
+    Run small = cli({QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("7"),
+                     QStringLiteral("--min-layers"), QStringLiteral("2"), QStringLiteral("--max-layers"),
+                     QStringLiteral("2")});
+    QCOMPARE(small.exit_code, 0);
+  }
+
+  void randomBadInput() {
+    Run seed = cli({QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("abc")});
+    QCOMPARE(seed.exit_code, 2);
+    QVERIFY(seed.err.contains("--seed expects a whole number"));
+    Run rate = cli({QStringLiteral("random"), QStringLiteral("--anomaly-rate"), QStringLiteral("2")});
+    QCOMPARE(rate.exit_code, 2);
+    QVERIFY2(rate.err.contains("--anomaly-rate"), rate.err.constData());
+    Run layers = cli({QStringLiteral("random"), QStringLiteral("--min-layers"), QStringLiteral("5"),
+                      QStringLiteral("--max-layers"), QStringLiteral("2")});
+    QCOMPARE(layers.exit_code, 2);
+    Run missing = cli({QStringLiteral("random"), QStringLiteral("--seed")});
+    QCOMPARE(missing.exit_code, 2);
+    QVERIFY(missing.err.contains("--seed needs a value"));
+  }
+
+  void friction() {
+    Run all = cli({QStringLiteral("friction")});
+    QCOMPARE(all.exit_code, 0);
+    QCOMPARE(all.json().object().value(QStringLiteral("pairs")).toArray().size(), 6);
+    Run one = cli({QStringLiteral("friction"), QStringLiteral("--pair"),
+                   QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"), QStringLiteral("-25"),
+                   QStringLiteral("--to"), QStringLiteral("-25")});
+    QCOMPARE(one.exit_code, 0);
+    const QJsonArray samples = one.json()
+                                   .object()
+                                   .value(QStringLiteral("pairs"))
+                                   .toArray()
+                                   .first()
+                                   .toObject()
+                                   .value(QStringLiteral("samples"))
+                                   .toArray();
+    QCOMPARE(samples.size(), 1);
+    QCOMPARE(samples[0].toObject().value(QStringLiteral("mu_s")).toDouble(), 0.22);
+    // Frost-melt: centre of the danger zone right after the change.
+    Run melt = cli({QStringLiteral("friction"), QStringLiteral("--pair"),
+                    QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"), QStringLiteral("3"),
+                    QStringLiteral("--to"), QStringLiteral("3"), QStringLiteral("--since"), QStringLiteral("0")});
+    const QJsonObject s = melt.json()
+                              .object()
+                              .value(QStringLiteral("pairs"))
+                              .toArray()
+                              .first()
+                              .toObject()
+                              .value(QStringLiteral("samples"))
+                              .toArray()
+                              .first()
+                              .toObject();
+    QCOMPARE(s.value(QStringLiteral("penalty")).toDouble(), 0.65);
+    QVERIFY(qAbs(s.value(QStringLiteral("mu_s_effective")).toDouble() -
+                 0.65 * s.value(QStringLiteral("mu_s")).toDouble()) < 1e-12);
+  }
+
+  void frictionBadInput() {
+    Run pair = cli({QStringLiteral("friction"), QStringLiteral("--pair"), QStringLiteral("ice/ice")});
+    QCOMPARE(pair.exit_code, 2);
+    QVERIFY(pair.err.contains("wood_pallet/rubber_belt"));
+    Run step = cli({QStringLiteral("friction"), QStringLiteral("--step"), QStringLiteral("0")});
+    QCOMPARE(step.exit_code, 2);
+    Run range = cli({QStringLiteral("friction"), QStringLiteral("--from"), QStringLiteral("10"),
+                     QStringLiteral("--to"), QStringLiteral("0")});
+    QCOMPARE(range.exit_code, 2);
+    Run since = cli({QStringLiteral("friction"), QStringLiteral("--since"), QStringLiteral("-1")});
+    QCOMPARE(since.exit_code, 2);
+  }
+};
+
+QTEST_GUILESS_MAIN(CliTest)
+#include "cli_test.moc"
