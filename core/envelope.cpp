@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/envelope.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -93,13 +94,6 @@ class AxisSearch {
   ProbeFn probe_;
 };
 
-std::string fmt(double v, int digits = 2) {
-  std::ostringstream s;
-  s.precision(digits);
-  s << std::fixed << v;
-  return s.str();
-}
-
 // How far up its search range a limit sits, in [0, 1].
 double normalised(const AxisLimit& a, double lo, double hi) {
   if (a.at_ceiling) return 1.0;
@@ -177,7 +171,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                   r.wall_ms};
       env.probes.push_back(probe);
       if (r.outcome == Outcome::unstable) {
-        unstable = std::string(to_string(axis)) + " probe at " + fmt(x, 3) + ": " + r.reason;
+        unstable = std::string(to_string(axis)) + " probe at " + fixed(x, 3) + ": " + r.reason;
         return std::nullopt;
       }
       return ProbeVerdict{r.outcome == Outcome::failed, probe.mode};
@@ -288,13 +282,13 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   } else {
     r.verdict = "ok";
     std::ostringstream why;
-    why << "Start-up to " << fmt(r.max_accel_mps2, 1) << " m/s^2"
+    why << "Start-up to " << fixed(r.max_accel_mps2, 1) << " m/s^2"
         << (env.accel.at_ceiling ? " (the top of the range)"
                                  : " (then " + std::string(to_string(r.accel_mode)) + ")")
-        << "; stops from " << fmt(s.speed_max_mps, 1) << " m/s to " << fmt(r.max_decel_mps2, 1)
-        << " m/s^2; curves to " << fmt(r.max_lateral_g, 2) << " g; with a "
-        << fmt(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fmt(line.curve_radius_m, 1)
-        << " m curves: " << fmt(r.max_speed_mps, 2) << " m/s (" << r.speed_governed_by << ").";
+        << "; stops from " << fixed(s.speed_max_mps, 1) << " m/s to " << fixed(r.max_decel_mps2, 1)
+        << " m/s^2; curves to " << fixed(r.max_lateral_g, 2) << " g; with a "
+        << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
+        << " m curves: " << fixed(r.max_speed_mps, 2) << " m/s (" << r.speed_governed_by << ").";
     r.reason = why.str();
   }
   r.sims_run = static_cast<int>(env.probes.size());

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/json_io.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -27,12 +28,6 @@ Json vec3_to_json(const Vec3& v) {
 
 std::string key_pointer(const std::string& pointer, std::string_view key) {
   return pointer + "/" + json_pointer_token(key);
-}
-
-std::string format_number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", value);
-  return buffer;
 }
 
 std::string type_name(const Json& json) {
@@ -174,7 +169,7 @@ class Reader {
       warning(where, std::string(key) + " is not a number and is ignored (it is recomputed); " +
                          "remove it");
     } else if (!(std::abs(it->get<double>() - expected) <= kComputedTolerance)) {
-      warning(where, disagreement(key, it->dump(), format_number(expected)));
+      warning(where, disagreement(key, it->dump(), short_number(expected)));
     }
   }
 

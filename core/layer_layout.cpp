@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/layer_layout.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,9 +30,7 @@ constexpr double kContactArea = 1e-6;
 constexpr double kShiftResolution = 1e-4;
 
 std::string fixed(double value, int decimals, const char* unit) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.*f %s", decimals, value, unit);
-  return buffer;
+  return pb::fixed(value, decimals) + " " + unit;
 }
 
 // One carton of a layer before its height is known: position relative to the deck centre.

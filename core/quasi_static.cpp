@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/quasi_static.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,13 +22,6 @@ QuasiStaticLimit weakest(const std::vector<QuasiStaticLimit>& limits) {
   return *std::min_element(limits.begin(), limits.end(), [](const auto& a, const auto& b) {
     return a.accel_mps2 < b.accel_mps2;
   });
-}
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << v;
-  return s.str();
 }
 
 // Half-extents of an item's yawed footprint along X and Y.
@@ -53,7 +47,7 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
   const double mu_belt = friction.belt_pallet.mu_s;
   for (auto* list : {&out.along, &out.across}) {
     list->push_back({mu_belt * g, FailureMode::pallet_slip,
-                     "the pallet slips on the belt (mu " + fmt(mu_belt) + ")", -1});
+                     "the pallet slips on the belt (mu " + fixed(mu_belt, 2) + ")", -1});
   }
   // The whole load over the pallet's edge (the pallet's bottom is the pivot).
   const Vec3 com = composite_com_m(config);
@@ -86,7 +80,7 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     for (auto* list : {&out.along, &out.across}) {
       list->push_back({mu * g, FailureMode::top_item_slide,
                        name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
-                           fmt(mu) + ")",
+                           fixed(mu, 2) + ")",
                        static_cast<int>(i)});
     }
     // The sub-stack item i carries, directly or not, tips over item i's bottom edge.

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/random_pallet.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -59,12 +60,6 @@ std::array<double, N> weights_of(const T (&choices)[N]) {
   std::array<double, N> w{};
   for (std::size_t i = 0; i < N; ++i) w[i] = choices[i].weight;
   return w;
-}
-
-std::string fixed(double value, int decimals) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
 }
 
 // The environment's default products (transitioning loads are frozen ones warming up); the whole

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/replay.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -76,12 +77,6 @@ Json failure_to_json(const std::optional<FailureEvent>& failure) {
 
 // ---------------------------------------------------------------------------------------------
 // Reading.
-
-std::string number_text(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.9g", value);
-  return buffer;
-}
 
 std::string at(const std::string& pointer, std::string_view key) {
   return pointer + "/" + json_pointer_token(key);
@@ -160,7 +155,7 @@ class ReplayReader {
     out.quat = {v[3], v[4], v[5], v[6]};
     const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
     if (std::abs(norm - 1.0) <= kUnitTolerance) return true;
-    error(pointer, "the quaternion (qw, qx, qy, qz) has length " + number_text(norm) +
+    error(pointer, "the quaternion (qw, qx, qy, qz) has length " + short_number(norm) +
                        "; write a unit quaternion");
     return false;
   }
@@ -338,9 +333,10 @@ void read_frames(ReplayReader& reader, const Json& json, int n_items,
       continue;
     }
     if (!(frame->t > previous_t)) {
-      reader.error(at(p, "t"),
-                   "t = " + number_text(frame->t) + " s does not come after the previous frame's " +
-                       number_text(previous_t) + " s; order the frames by increasing time");
+      reader.error(at(p, "t"), "t = " + short_number(frame->t) +
+                                   " s does not come after the previous frame's " +
+                                   short_number(previous_t) +
+                                   " s; order the frames by increasing time");
     }
     previous_t = frame->t;
     out.push_back(std::move(*frame));

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/stack_builder.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -24,9 +25,7 @@ constexpr double kDefaultCellLength = 0.4;
 constexpr double kDefaultCellWidth = 0.3;
 
 std::string metres(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.2f m", value);
-  return buffer;
+  return fixed(value, 2) + " m";
 }
 
 // The known SKUs with the largest length and the largest width among the stacks (first wins).

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/validation.hpp"
+#include "core/text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,12 +22,6 @@ constexpr double kNominalDimsTolerance = 0.05;
 constexpr double kCatalogTolerance = 0.01;
 // Footprint overlap (m^2) below which two items do not touch from above (1 mm^2).
 constexpr double kMinContactArea = 1e-6;
-
-std::string fmt(double value, int decimals) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
 
 std::string item_pointer(std::size_t i) {
   return "/items/" + std::to_string(i);
@@ -62,9 +57,9 @@ class Checker {
     const bool ok = std::isfinite(value) &&
                     (range.lo_open ? value > range.lo : value >= range.lo) && value <= range.hi;
     if (!ok) {
-      error(pointer, what + " is " + (std::isfinite(value) ? fmt(value, 4) : "not finite") + " " +
+      error(pointer, what + " is " + (std::isfinite(value) ? fixed(value, 4) : "not finite") + " " +
                          unit + "; set it to a number in " + (range.lo_open ? "(" : "[") +
-                         fmt(range.lo, 2) + ", " + fmt(range.hi, 2) + "] " + unit);
+                         fixed(range.lo, 2) + ", " + fixed(range.hi, 2) + "] " + unit);
     }
     return ok;
   }
@@ -100,8 +95,8 @@ bool check_base(Checker& c, const PalletConfig& config) {
       if (std::abs(config.base_dims_m[k] - spec.dims_m[k]) > kNominalDimsTolerance) {
         c.warning("/base_dims_m",
                   "base_dims_m differ from a nominal " + std::string(to_string(spec.type)) +
-                      " pallet (" + fmt(spec.dims_m[0], 3) + " x " + fmt(spec.dims_m[1], 3) +
-                      " x " + fmt(spec.dims_m[2], 3) +
+                      " pallet (" + fixed(spec.dims_m[0], 3) + " x " + fixed(spec.dims_m[1], 3) +
+                      " x " + fixed(spec.dims_m[2], 3) +
                       " m) by more than 5 cm; check the dimensions or the base_pallet_type");
         break;
       }
@@ -159,8 +154,8 @@ void check_catalog(Checker& c, const Item& item, std::size_t i, const Catalog& c
   }
   if (!usable) return;
   if (!close_to(item.weight_kg, sku->weight_kg)) {
-    c.warning(p + "/weight_kg", "weight_kg " + fmt(item.weight_kg, 3) + " differs from the " +
-                                    fmt(sku->weight_kg, 3) + " kg of catalog SKU '" + sku->sku +
+    c.warning(p + "/weight_kg", "weight_kg " + fixed(item.weight_kg, 3) + " differs from the " +
+                                    fixed(sku->weight_kg, 3) + " kg of catalog SKU '" + sku->sku +
                                     "' by more than 1 %; check the weight or the SKU");
   }
   // A carton described with length and width swapped is the same carton.
@@ -169,8 +164,8 @@ void check_catalog(Checker& c, const Item& item, std::size_t i, const Catalog& c
   const bool same = close_to(d[2], e[2]) && ((close_to(d[0], e[0]) && close_to(d[1], e[1])) ||
                                              (close_to(d[0], e[1]) && close_to(d[1], e[0])));
   if (!same) {
-    c.warning(p + "/dims_m", "dims_m differ from the " + fmt(e[0], 3) + " x " + fmt(e[1], 3) +
-                                 " x " + fmt(e[2], 3) + " m of catalog SKU '" + sku->sku +
+    c.warning(p + "/dims_m", "dims_m differ from the " + fixed(e[0], 3) + " x " + fixed(e[1], 3) +
+                                 " x " + fixed(e[2], 3) + " m of catalog SKU '" + sku->sku +
                                  "' by more than 1 %; check the dimensions or the SKU");
   }
 }
@@ -233,7 +228,7 @@ class PhysicalChecks {
           check_below_deck(i) && !interpenetrates && (!all_usable_ || check_floating(i));
       if (placed && support[i] < c_.limits().low_support_warning) {
         c_.warning(item_pointer(i), item_name(config_.items[i], i) + " rests on only " +
-                                        fmt(100.0 * support[i], 0) +
+                                        fixed(100.0 * support[i], 0) +
                                         " % of its footprint; move it over what carries it");
       }
       check_overhang(i);
@@ -247,8 +242,8 @@ class PhysicalChecks {
     const double sink = deck_top_ - item(i).position[2];
     if (sink <= c_.limits().penetration_tolerance_m) return true;
     c_.error(item_pointer(i) + "/position/2",
-             item_name(item(i), i) + " reaches " + fmt(1000.0 * sink, 1) +
-                 " mm into the pallet deck; raise it to z = " + fmt(deck_top_, 3) + " m");
+             item_name(item(i), i) + " reaches " + fixed(1000.0 * sink, 1) +
+                 " mm into the pallet deck; raise it to z = " + fixed(deck_top_, 3) + " m");
     return false;
   }
 
@@ -264,7 +259,7 @@ class PhysicalChecks {
       if (horizontal > tolerance && vertical > tolerance) {
         c_.error(item_pointer(j), item_name(item(j), j) + " and " + item_name(item(i), i) +
                                       " interpenetrate by " +
-                                      fmt(1000.0 * std::min(horizontal, vertical), 1) +
+                                      fixed(1000.0 * std::min(horizontal, vertical), 1) +
                                       " mm; move one of them so their volumes do not overlap");
         found = true;
       }
@@ -284,8 +279,8 @@ class PhysicalChecks {
     }
     if (bottom - rest <= c_.limits().support_tolerance_m) return true;
     c_.error(item_pointer(i) + "/position/2",
-             item_name(item(i), i) + " floats " + fmt(1000.0 * (bottom - rest), 1) +
-                 " mm above what is under it; lower it to z = " + fmt(rest, 3) + " m");
+             item_name(item(i), i) + " floats " + fixed(1000.0 * (bottom - rest), 1) +
+                 " mm above what is under it; lower it to z = " + fixed(rest, 3) + " m");
     return false;
   }
 
@@ -293,9 +288,9 @@ class PhysicalChecks {
     const double overhang = item_overhang_m(item(i), config_.base_dims_m);
     if (overhang <= c_.limits().max_overhang_m) return;
     c_.error(item_pointer(i) + "/position", item_name(item(i), i) + " reaches " +
-                                                fmt(1000.0 * overhang, 0) +
+                                                fixed(1000.0 * overhang, 0) +
                                                 " mm beyond the pallet edge, more than the " +
-                                                fmt(1000.0 * c_.limits().max_overhang_m, 0) +
+                                                fixed(1000.0 * c_.limits().max_overhang_m, 0) +
                                                 " mm allowed; move it towards the centre");
   }
 
@@ -311,9 +306,9 @@ void check_gross_mass(Checker& c, const PalletConfig& config) {
   const double cap = std::min(c.limits().max_gross_mass_kg, spec.rated_load_kg + spec.mass_kg);
   const double mass = total_mass_kg(config);
   if (mass <= cap) return;
-  c.error("/items", "the gross mass is " + fmt(mass, 1) + " kg, above the " + fmt(cap, 1) +
+  c.error("/items", "the gross mass is " + fixed(mass, 1) + " kg, above the " + fixed(cap, 1) +
                         " kg this " + std::string(to_string(spec.type)) +
-                        " pallet may carry; remove " + fmt(mass - cap, 1) + " kg of items");
+                        " pallet may carry; remove " + fixed(mass - cap, 1) + " kg of items");
 }
 
 // The top of the load over the usable items, reported at the highest one.
@@ -328,9 +323,9 @@ void check_stack_height(Checker& c, const PalletConfig& config, const std::vecto
   if (highest == config.items.size()) return;
   const double top = config.items[highest].top_z();
   if (top <= c.limits().max_stack_height_m) return;
-  c.error(item_pointer(highest), "the load is " + fmt(top, 3) + " m high (top of " +
+  c.error(item_pointer(highest), "the load is " + fixed(top, 3) + " m high (top of " +
                                      item_name(config.items[highest], highest) + "), above the " +
-                                     fmt(c.limits().max_stack_height_m, 3) +
+                                     fixed(c.limits().max_stack_height_m, 3) +
                                      " m limit; remove or lower the top layer");
 }
 

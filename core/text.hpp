@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: MIT
+// Numbers in messages: the few formats every diagnostic and summary of the core uses.
+#pragma once
+
+#include <string>
+
+namespace pb {
+
+/// `decimals` digits after the point: fixed(0.4, 2) == "0.40".
+std::string fixed(double value, int decimals);
+
+/// Up to 9 significant digits, no trailing zeros (printf "%.9g"): for quoting a user's number.
+std::string short_number(double value);
+
+}  // namespace pb
