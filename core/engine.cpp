@@ -122,7 +122,7 @@ std::optional<std::string> instability_reason(const mjModel* m, const mjData* d)
   for (const auto& c : kChecks) {
     if (d->warning[c.warning].number > 0) {
       return std::string(c.what) + " (" + std::to_string(d->warning[c.warning].number) +
-             " time(s), at t = " + std::to_string(d->time) + " s)";
+             " time(s))";
     }
   }
   for (int i = 0; i < m->nq; ++i) {

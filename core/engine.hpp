@@ -65,7 +65,8 @@ std::optional<std::string> guarded(F&& fn) {
 
 /// Why the data can no longer be trusted, or nullopt: any contact or constraint buffer overflow,
 /// a bad (NaN or huge) qpos, qvel, qacc or ctrl (MuJoCo silently resets the data after those), a
-/// near-singular inertia, or a non-finite state. Checked after every run of steps.
+/// near-singular inertia, or a non-finite state. Checked after every run of steps. The reason
+/// carries no time: after a divergence MuJoCo has already reset the clock, so callers add theirs.
 std::optional<std::string> instability_reason(const mjModel* model, const mjData* data);
 
 /// The last warning text MuJoCo raised in this thread ("" if none).

@@ -8,6 +8,7 @@
 
 #include "core/json_io.hpp"
 #include "core/pallet_type.hpp"
+#include "core/text.hpp"
 #include "core/validation.hpp"
 #include "core/wrap.hpp"
 
@@ -236,6 +237,24 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   }
   x << "</mujoco>\n";
   return x.str();
+}
+
+std::optional<std::string> numerical_limits_problem(const Scene& scene) {
+  const SceneOptions& o = scene.options;
+  if (o.timestep_s > 0.01) {
+    return "a timestep of " + short_number(o.timestep_s * 1000.0) +
+           " ms lets a resting load sink more than 1 cm in one step (contacts cannot hold it); "
+           "use 10 ms or less";
+  }
+  const mjModel* m = scene.model.get();
+  for (int i = 0; i < m->neq; ++i) {
+    const double k = -m->eq_solref[mjNREF * i];
+    if (k > 0.0 && std::sqrt(k) * o.timestep_s >= 1.0) {
+      return "wrap weld " + std::to_string(i) + " is too stiff for the timestep (sqrt(K') dt = " +
+             fixed(std::sqrt(k) * o.timestep_s, 2) + " >= 1): it rings and diverges";
+    }
+  }
+  return std::nullopt;
 }
 
 Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options,

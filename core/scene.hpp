@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,14 @@ struct Scene {
 /// opens it). Pure text: no validation, no engine.
 std::string build_mjcf(const PalletConfig& config, const ContactFriction& friction,
                        const SceneOptions& options);
+
+/// Why these numerical settings cannot give a trustworthy answer for this scene, or nullopt: a wrap
+/// weld whose
+/// natural frequency is not resolved by the timestep (sqrt(K') dt >= 1) rings and diverges; above
+/// 10 ms a resting load sinks more than the phantom-contact filter's 1 cm in one step and falls
+/// through. A run of such a scene is `unstable` before it starts. (A belt drive integrated beyond
+/// its stability limit, kv dt / M >= 2 with Euler, is caught while it runs: its error grows.)
+std::optional<std::string> numerical_limits_problem(const Scene& scene);
 
 /// Validates the pallet (errors make it fail; a pallet that cannot exist is not simulated), takes
 /// friction from `friction_model`, writes and compiles the MJCF.

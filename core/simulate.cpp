@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/simulate.hpp"
 
+#include "core/text.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,6 +14,24 @@ namespace {
 
 constexpr int kWarnings[] = {mjWARN_CONTACTFULL, mjWARN_CNSTRFULL, mjWARN_BADQACC, mjWARN_BADQVEL,
                              mjWARN_BADQPOS,     mjWARN_BADCTRL,   mjWARN_INERTIA};
+
+// A belt that stops following its command, its error growing step after step, has diverged (an
+// explicit velocity drive with kv dt / M >= 2 triples its error every step); a detector would
+// otherwise report the runaway motion as a conveyor failure.
+class BeltWatch {
+ public:
+  std::optional<std::string> check(double error) {
+    growth_ = (error > 0.05 && error > last_) ? growth_ + 1 : 0;
+    last_ = error;
+    if (growth_ < 3) return std::nullopt;
+    return "the belt no longer follows its command (error " + fixed(error, 2) +
+           " m/s and growing): the belt drive's integration diverged";
+  }
+
+ private:
+  double last_ = 0.0;
+  int growth_ = 0;
+};
 
 bool any_warning(const mjData* d) {
   for (int w : kWarnings) {
@@ -99,19 +119,25 @@ Result<RestState> Simulator::settle(const SettleOptions& o) {
   const mjModel* m = scene_->model.get();
   mjData* d = data_.get();
   mj_resetData(m, d);
-  std::optional<std::string> error;
+  std::optional<std::string> error = numerical_limits_problem(*scene_);
   const int check_every =
       std::max(1, static_cast<int>(std::lround(o.check_every_s / m->opt.timestep)));
   const int max_steps = static_cast<int>(std::ceil(o.max_time_s / m->opt.timestep));
+  const SceneLayout& l = scene_->layout;
   double speed = 0.0, spin = 0.0;
   bool at_rest = false;
   int step = 0;
+  BeltWatch belt;
   while (step < max_steps && !at_rest && !error) {
     error = guarded([&] {
-      for (int k = 0; k < check_every; ++k) mj_step(m, d);
+      for (int k = 0; k < check_every && !error; ++k) {
+        mj_step(m, d);
+        error = belt.check(std::hypot(d->qvel[l.belt_x_dof], d->qvel[l.belt_y_dof]));
+      }
     });
     step += check_every;
     if (!error) error = instability_reason(m, d);
+    if (error) *error += " (by t = " + fixed(step * m->opt.timestep, 3) + " s)";
     speed = max_relative_speed(0.0, 0.0, &spin);
     at_rest = d->time >= o.min_time_s && speed < o.rest_speed_mps && spin < o.rest_spin_radps;
   }
@@ -157,6 +183,15 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
   const double belt_x0 = rest.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
   const double belt_y0 = rest.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
   const FailureDetector detector(o.thresholds, rest.pallet, rest.items);
+  if (auto problem = numerical_limits_problem(*scene_)) {
+    r.outcome = Outcome::unstable;
+    r.reason = *problem;
+    return r;
+  }
+  // Divergence a detector could mistake for a failure: a belt that stops following its command
+  // (its error growing step after step) or a pallet sinking through the belt.
+  BeltWatch belt_watch;
+  const double fall_through_z = rest.pallet.pos[2] - 0.01;
   if (o.record_trace) {
     r.trace.reserve(static_cast<std::size_t>(n_steps) + 1);
     r.trace.push(0.0, {0.0, 0.0, v0, 0.0}, rest.pallet, rest.items);
@@ -173,17 +208,27 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
     // the belt should have at the end of this step.
     d->ctrl[l.belt_x_act] = profile.velocity_at(t_next);
     d->ctrl[l.belt_y_act] = profile.lateral_velocity_at(t_next);
+    const double command_x = d->ctrl[l.belt_x_act], command_y = d->ctrl[l.belt_y_act];
     if (auto error = guarded([&] { mj_step(m, d); })) {
       r.outcome = Outcome::unstable;
-      r.reason = *error;
+      r.reason = *error + " (at t = " + fixed(t_next, 3) + " s)";
       mj_resetData(m, d);
       break;
     }
     r.steps = k;
     r.sim_time_s = t_next;
-    if (any_warning(d)) {
+    std::optional<std::string> broken;
+    if (any_warning(d)) broken = instability_reason(m, d).value_or("MuJoCo raised a warning");
+    if (!broken) {
+      broken = belt_watch.check(
+          std::hypot(d->qvel[l.belt_x_dof] - command_x, d->qvel[l.belt_y_dof] - command_y));
+    }
+    if (!broken && d->xpos[3 * l.pallet_body + 2] < fall_through_z) {
+      broken = std::string("the pallet sank through the belt: contacts could not hold it");
+    }
+    if (broken) {
       r.outcome = Outcome::unstable;
-      r.reason = instability_reason(m, d).value_or("MuJoCo raised a warning");
+      r.reason = *broken + " (at t = " + fixed(t_next, 3) + " s)";
       break;
     }
     const Trace::BeltState belt{d->qpos[l.belt_x_qpos] - belt_x0, d->qpos[l.belt_y_qpos] - belt_y0,
@@ -212,7 +257,7 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
   if (r.outcome != Outcome::unstable) {
     if (auto reason = instability_reason(m, d)) {
       r.outcome = Outcome::unstable;
-      r.reason = *reason;
+      r.reason = *reason + " (by t = " + fixed(r.sim_time_s, 3) + " s)";
       r.failure.reset();
     }
   } else {
