@@ -69,17 +69,20 @@ std::string last_engine_warning() {
 
 Result<ModelPtr> compile_mjcf(std::string_view xml) {
   init_engine();
+  if (xml.empty()) return Result<ModelPtr>::failure("", "the MJCF text is empty");
   // mjVFS is about 2 MB: never on the stack. 2.2.2's mj_deleteFileVFS can loop forever, so the
   // whole VFS is deleted instead.
   std::unique_ptr<mjVFS, VfsDeleter> vfs(static_cast<mjVFS*>(std::malloc(sizeof(mjVFS))));
   if (!vfs) return Result<ModelPtr>::failure("", "out of memory for the MJCF file system");
-  mj_defaultVFS(vfs.get());
   constexpr const char* kName = "scene.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(xml.size())) != 0) {
-    return Result<ModelPtr>::failure("", "could not store the MJCF in MuJoCo's file system");
-  }
-  const int index = mj_findFileVFS(vfs.get(), kName);
-  std::memcpy(vfs->filedata[index], xml.data(), xml.size());
+  std::optional<std::string> vfs_error = guarded([&] {
+    mj_defaultVFS(vfs.get());
+    if (mj_makeEmptyFileVFS(vfs.get(), kName, static_cast<int>(xml.size())) != 0) {
+      throw EngineError("could not store the MJCF in MuJoCo's file system");
+    }
+    std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), kName)], xml.data(), xml.size());
+  });
+  if (vfs_error) return Result<ModelPtr>::failure("", *vfs_error);
   char error[1024] = "";
   mjModel* raw = nullptr;
   if (auto engine_error =

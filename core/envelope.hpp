@@ -29,7 +29,10 @@ struct SearchConfig {
   double accel_min_mps2 = 0.1, accel_max_mps2 = 5.0, accel_precision_mps2 = 0.1;
   double decel_min_mps2 = 0.1, decel_max_mps2 = 5.0, decel_precision_mps2 = 0.1;
   double lateral_min_g = 0.01, lateral_max_g = 0.5, lateral_precision_g = 0.01;
-  double hold_s = 0.5;      ///< probes run this long after the belt's motion stops changing
+  /// Probes end once the load moves with the belt again after the belt's motion stops changing
+  /// (nothing can change after that), or this long after it at most: a load still sliding when
+  /// the belt settles must be followed until it stops.
+  double hold_s = 3.0;
   double max_ramp_s = 2.0;  ///< an acceleration probe ramps to speed_max, or for this long at most
 
   bool operator==(const SearchConfig&) const = default;
