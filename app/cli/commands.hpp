@@ -9,7 +9,10 @@
 #include <vector>
 
 #include "app/cli/args.hpp"
+#include "core/conveyor_profile.hpp"
+#include "core/diagnostic.hpp"
 #include "core/json_io.hpp"
+#include "core/pallet_config.hpp"
 
 namespace pb::cli {
 
@@ -25,8 +28,23 @@ struct Command {
 /// scenarios, catalog, validate, random, friction.
 std::vector<Command> data_commands();
 
+/// mjcf, solve, analyze, bench.
+std::vector<Command> physics_commands();
+
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);
+
+/// A pallet named by a FILE argument.
+struct PalletInput {
+  PalletConfig pallet;
+  std::string pointer_prefix;  ///< "/pallet" when it came from a scenario file, "" otherwise
+  std::optional<ConveyorProfile> suggested_profile;  ///< a scenario's, when it has one
+};
+
+/// Reads a FILE argument: a PalletConfig file, a scenario file (its "pallet" and, if present, its
+/// "suggested_profile"), "-" for stdin, or the slug of a curated scenario when no file of that
+/// name exists. Errors point into the document that was read; warnings may come with the pallet.
+Result<PalletInput> read_pallet(const std::string& arg);
 
 /// Prints JSON on stdout, indented by two spaces.
 void print_json(const Json& json);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Verbs over the contract and the data: scenarios, catalog, validate, random, friction.
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -16,22 +17,75 @@
 
 namespace pb::cli {
 
-std::optional<std::string> read_input(const std::string& path) {
+namespace {
+
+// A file's text, or stdin's for "-"; nullopt if the file cannot be opened.
+std::optional<std::string> read_text(const std::string& path) {
   std::ostringstream text;
   if (path == "-") {
     text << std::cin.rdbuf();
     return text.str();
   }
   std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    std::cerr << "palletballet-cli: cannot open '" << path << "'; check the path\n";
-    return std::nullopt;
-  }
+  if (!file) return std::nullopt;
   text << file.rdbuf();
   return text.str();
 }
 
-void print_json(const Json& json) { std::cout << json.dump(2) << "\n"; }
+// The pallet and suggested profile of a curated scenario, for a FILE argument that is no file.
+Result<PalletInput> curated_pallet(const std::string& arg) {
+  auto scenario = load_scenario(arg);
+  if (!scenario) {
+    std::string known;
+    for (const auto& slug : scenario_slugs()) known += (known.empty() ? "" : ", ") + slug;
+    return Result<PalletInput>::failure(
+        "", "cannot open '" + arg + "': there is no such file and no curated scenario of that " +
+                "name; check the path, or name one of " + known);
+  }
+  return Result<PalletInput>{
+      PalletInput{std::move(scenario->pallet), "", scenario->suggested_profile}, {}};
+}
+
+}  // namespace
+
+std::optional<std::string> read_input(const std::string& path) {
+  auto text = read_text(path);
+  if (!text) std::cerr << "palletballet-cli: cannot open '" << path << "'; check the path\n";
+  return text;
+}
+
+Result<PalletInput> read_pallet(const std::string& arg) {
+  if (arg != "-" && !std::filesystem::exists(arg)) return curated_pallet(arg);
+  auto text = read_text(arg);
+  if (!text) {
+    const std::string what = "cannot open '" + arg + "'; check the path and its permissions";
+    return Result<PalletInput>::failure("", what);
+  }
+  auto json = parse_json(*text);
+  if (!json) return Result<PalletInput>::failure(std::move(json.diagnostics));
+  // A scenario file holds its pallet under "pallet".
+  PalletInput input;
+  const Json* pallet_json = &*json;
+  Diagnostics diags;
+  if (json->is_object() && json->contains("pallet") && (*json)["pallet"].is_object()) {
+    input.pointer_prefix = "/pallet";
+    pallet_json = &(*json)["pallet"];
+    if (json->contains("suggested_profile")) {
+      auto profile = profile_from_json((*json)["suggested_profile"], "/suggested_profile");
+      diags = std::move(profile.diagnostics);
+      input.suggested_profile = std::move(profile.value);
+    }
+  }
+  auto pallet = pallet_from_json(*pallet_json, input.pointer_prefix);
+  diags.insert(diags.end(), pallet.diagnostics.begin(), pallet.diagnostics.end());
+  if (!pallet || has_errors(diags)) return Result<PalletInput>::failure(std::move(diags));
+  input.pallet = std::move(*pallet.value);
+  return Result<PalletInput>{std::move(input), std::move(diags)};
+}
+
+void print_json(const Json& json) {
+  std::cout << json.dump(2) << "\n";
+}
 
 void print_diagnostics(const Diagnostics& diagnostics) {
   for (const auto& d : diagnostics) std::cerr << to_string(d) << "\n";
@@ -164,31 +218,17 @@ ValidationLimits limits_from(const Args& args) {
 
 int run_validate(const Args& args) {
   const ValidationLimits limits = limits_from(args);
-  auto text = read_input(args.positionals()[0]);
-  if (!text) return kExitBadInput;
-  auto json = parse_json(*text);
-  if (!json) {
-    print_diagnostics(json.diagnostics);
-    return kExitBadInput;
-  }
-  // A scenario file holds its pallet under "pallet".
-  std::string prefix;
-  const Json* pallet_json = &*json;
-  if (json->is_object() && json->contains("pallet") && (*json)["pallet"].is_object()) {
-    prefix = "/pallet";
-    pallet_json = &(*json)["pallet"];
-  }
-  auto pallet = pallet_from_json(*pallet_json, prefix);
-  Diagnostics diags = pallet.diagnostics;
-  if (pallet) {
-    for (auto d : validate(*pallet, limits)) {
-      d.pointer = prefix + d.pointer;
+  auto input = read_pallet(args.positionals()[0]);
+  Diagnostics diags = input.diagnostics;
+  if (input) {
+    for (auto d : validate(input->pallet, limits)) {
+      d.pointer = input->pointer_prefix + d.pointer;
       diags.push_back(std::move(d));
     }
   }
   print_diagnostics(diags);
-  if (pallet) {
-    print_json(pallet_report(*pallet, diags));
+  if (input) {
+    print_json(pallet_report(input->pallet, diags));
   } else {
     print_json({{"valid", false}, {"errors", diagnostics_json(errors_of(diags))}});
   }
@@ -204,7 +244,9 @@ int run_random(const Args& args) {
     options.seed = static_cast<std::uint64_t>(*v);
   }
   if (auto v = args.number("anomaly-rate")) options.anomaly_rate = *v;
-  auto to_int = [](std::int64_t v) { return static_cast<int>(std::clamp<std::int64_t>(v, -1, 1000)); };
+  auto to_int = [](std::int64_t v) {
+    return static_cast<int>(std::clamp<std::int64_t>(v, -1, 1000));
+  };
   if (auto v = args.integer("min-layers")) options.min_layers = to_int(*v);
   if (auto v = args.integer("max-layers")) options.max_layers = to_int(*v);
   if (auto v = args.integer("min-items")) options.min_items_per_layer = to_int(*v);
@@ -283,30 +325,39 @@ int run_friction(const Args& args) {
 
 std::vector<Command> data_commands() {
   return {
-      {{"scenarios", "scenarios [SLUG] [--check] [--rebuild FILE|-]",
+      {{"scenarios",
+        "scenarios [SLUG] [--check] [--rebuild FILE|-]",
         "List the curated scenarios, print one (SLUG), check that every one validates and matches "
         "its recipe (--check, exit 2 if not), or rebuild a scenario's pallet from its recipe.",
         {{"check", "", "validate every scenario; a summary line per scenario on stderr"},
          {"rebuild", "FILE", "print the scenario in FILE with its pallet rebuilt from its recipe"}},
-        0, 1},
+        0,
+        1},
        run_scenarios},
-      {{"catalog", "catalog [--env ENV]", "The SKU catalog as JSON.",
-        {{"env", "ENV", "only SKUs whose default environment is ENV (" +
-                            enum_choices<Environment>() + ")"}},
-        0, 0},
+      {{"catalog",
+        "catalog [--env ENV]",
+        "The SKU catalog as JSON.",
+        {{"env", "ENV",
+          "only SKUs whose default environment is ENV (" + enum_choices<Environment>() + ")"}},
+        0,
+        0},
        run_catalog},
-      {{"validate", "validate FILE|- [--require-known-skus] [--max-overhang M] [--max-height M] "
-                    "[--max-mass KG]",
-        "Read and validate a PalletConfig (or a scenario's pallet). Exit 0 if valid; exit 2 with "
+      {{"validate",
+        "validate FILE|-|SLUG [--require-known-skus] [--max-overhang M] "
+        "[--max-height M] [--max-mass KG]",
+        "Read and validate a PalletConfig (or a scenario's pallet, or a curated scenario's). Exit "
+        "0 if valid; exit 2 with "
         "every error on stderr as 'pointer: message'. A JSON report goes to stdout.",
         {{"require-known-skus", "", "every item's SKU must be in the catalog"},
          {"max-overhang", "M", "overhang limit in metres (default 0.10)"},
          {"max-height", "M", "stack height cap in metres (default 1.85)"},
          {"max-mass", "KG", "gross mass cap in kg (default 1200)"}},
-        1, 1},
+        1,
+        1},
        run_validate},
-      {{"random", "random --seed N [--anomaly-rate R] [--min-layers A --max-layers B] "
-                  "[--min-items A --max-items B]",
+      {{"random",
+        "random --seed N [--anomaly-rate R] [--min-layers A --max-layers B] "
+        "[--min-items A --max-items B]",
         "A random pallet from the seeded scanner adapter (same seed, same bytes).",
         {{"seed", "N", "seed (default 0)"},
          {"anomaly-rate", "R", "probability of a lean/overhang anomaly, 0..1 (default 0.08)"},
@@ -314,9 +365,11 @@ std::vector<Command> data_commands() {
          {"max-layers", "B", "most layers (default 7)"},
          {"min-items", "A", "fewest items per layer (default 4)"},
          {"max-items", "B", "most items per layer (default 10)"}},
-        0, 0},
+        0,
+        0},
        run_random},
-      {{"friction", "friction [--pair P] [--from T0 --to T1 --step S] [--since SECONDS]",
+      {{"friction",
+        "friction [--pair P] [--from T0 --to T1 --step S] [--since SECONDS]",
         "Friction against temperature for every surface pair (or one), steady and with the "
         "frost-melt penalty at SECONDS since the temperature changed.",
         {{"pair", "P", "one surface pair, e.g. wood_pallet/rubber_belt"},
@@ -324,7 +377,8 @@ std::vector<Command> data_commands() {
          {"to", "T1", "last temperature, C (default 30)"},
          {"step", "S", "temperature step, C (default 1)"},
          {"since", "SECONDS", "seconds since the temperature changed (default 3600)"}},
-        0, 0},
+        0,
+        0},
        run_friction},
   };
 }

@@ -22,7 +22,8 @@ void print_usage(const std::vector<pb::cli::Command>& commands) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::vector<pb::cli::Command> commands = pb::cli::data_commands();
+  std::vector<pb::cli::Command> commands = pb::cli::data_commands();
+  for (auto& command : pb::cli::physics_commands()) commands.push_back(std::move(command));
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
       std::string(argv[1]) == "help") {
     print_usage(commands);

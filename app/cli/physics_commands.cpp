@@ -1,0 +1,507 @@
+// SPDX-License-Identifier: MIT
+// Verbs over the physics core: mjcf, solve, analyze, bench.
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "app/cli/commands.hpp"
+#include "core/analyzer.hpp"
+#include "core/scenario.hpp"
+#include "core/scene.hpp"
+#include "core/text.hpp"
+
+namespace pb::cli {
+
+namespace {
+
+constexpr double kMaxProfileDuration = 30.0;  // validate_profile's ceiling
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// ---- shared ----
+
+// The pallet a FILE argument names, or nullopt after printing why not. Warnings that come with
+// the pallet are printed too.
+std::optional<PalletInput> pallet_arg(const std::string& arg) {
+  auto input = read_pallet(arg);
+  print_diagnostics(input.diagnostics);
+  if (!input) return std::nullopt;
+  return std::move(*input.value);
+}
+
+// Diagnostics of the core about a pallet, with pointers into the document it was read from. An
+// empty pointer is about no part of the input (the engine) and stays empty.
+Diagnostics located(Diagnostics diagnostics, const PalletInput& input) {
+  for (auto& d : diagnostics) {
+    if (!d.pointer.empty()) d.pointer = input.pointer_prefix + d.pointer;
+  }
+  return diagnostics;
+}
+
+// A failure of the core is the input's fault when a diagnostic points into it (an invalid pallet,
+// a load that will not come to rest) and the run's fault otherwise (the engine, instability).
+int exit_code_for(const Diagnostics& diagnostics) {
+  for (const auto& d : errors_of(diagnostics)) {
+    if (!d.pointer.empty()) return kExitBadInput;
+  }
+  return kExitFailure;
+}
+
+// The value of --name, which must lie in (lo, hi]; `fallback` when absent.
+double option_in_range(const Args& args, const std::string& verb, const std::string& name,
+                       double fallback, double lo, double hi, const std::string& unit) {
+  const double v = args.number(name).value_or(fallback);
+  if (!(v > lo && v <= hi)) {
+    throw UsageError{verb + ": --" + name + " must be above " + short_number(lo) + " and at most " +
+                     short_number(hi) + " " + unit + ", got " + short_number(v)};
+  }
+  return v;
+}
+
+// An output file opened before the work that fills it, so a bad path fails fast (exit 2).
+std::ofstream open_output(const std::string& verb, const std::string& path) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw UsageError{verb + ": cannot write '" + path + "'; check that its folder exists"};
+  return out;
+}
+
+Json failure_json(const std::optional<FailureEvent>& failure) {
+  if (!failure) return nullptr;
+  return {{"mode", to_string(failure->mode)},
+          {"time_s", failure->time_s},
+          {"value", failure->value},
+          {"items", failure->items},
+          {"description", describe(*failure)}};
+}
+
+Json messages_json(const Diagnostics& diagnostics) {
+  Json out = Json::array();
+  for (const auto& d : errors_of(diagnostics)) out.push_back(to_string(d));
+  return out;
+}
+
+// ---- mjcf ----
+
+int run_mjcf(const Args& args) {
+  auto input = pallet_arg(args.positionals()[0]);
+  if (!input) return kExitBadInput;
+  auto scene = build_scene(input->pallet);
+  if (!scene) {
+    print_diagnostics(located(scene.diagnostics, *input));
+    return exit_code_for(scene.diagnostics);
+  }
+  if (auto path = args.text("out")) {
+    std::ofstream out = open_output("mjcf", *path);
+    out << scene->mjcf;
+    if (!out.flush()) throw UsageError{"mjcf: could not write all of '" + *path + "'"};
+  } else {
+    std::cout << scene->mjcf;
+  }
+  return kExitOk;
+}
+
+// ---- solve ----
+
+// Shapes whose motion depends on accel_mps2 (the others start at speed or follow their own pulse).
+bool uses_accel(ProfileShape shape) {
+  return shape == ProfileShape::accel_hold || shape == ProfileShape::ramp_decel;
+}
+
+// Until the belt's motion last changes, plus a second for the load to settle into it.
+double default_duration(ConveyorProfile profile) {
+  profile.duration_s = kMaxProfileDuration;
+  const std::vector<double> changes = profile.breakpoints();
+  return std::min(kMaxProfileDuration, (changes.empty() ? 0.0 : changes.back()) + 1.0);
+}
+
+// The profile of the flags, starting from the scenario's suggested profile when neither --speed
+// nor --accel is given. Ranges are checked by validate_profile, not here.
+ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfile>& suggested) {
+  const bool use_suggested = suggested && !args.text("speed") && !args.text("accel");
+  ConveyorProfile p = use_suggested ? *suggested : ConveyorProfile{};
+  if (auto name = args.text("profile")) {
+    auto shape = enum_from_string<ProfileShape>(*name);
+    if (!shape) throw UsageError{"solve: --profile must be " + enum_choices<ProfileShape>()};
+    p.shape = *shape;
+  }
+  if (!use_suggested) {
+    const auto speed = args.number("speed");
+    const auto accel = args.number("accel");
+    if (!speed) {
+      throw UsageError{"solve: --speed is required (only a scenario brings a suggested profile)"};
+    }
+    if (!accel && uses_accel(p.shape)) {
+      throw UsageError{"solve: --accel is required for the " + std::string(to_string(p.shape)) +
+                       " profile"};
+    }
+    p.target_speed_mps = *speed;
+    p.accel_mps2 = accel.value_or(p.accel_mps2);
+  }
+  p.decel_mps2 = args.number("decel").value_or(p.decel_mps2);
+  p.decel_start_s = args.number("decel-start").value_or(p.decel_start_s);
+  p.curve_radius_m = args.number("radius").value_or(p.curve_radius_m);
+  p.curve_angle_deg = args.number("angle").value_or(p.curve_angle_deg);
+  p.eumos_g = args.number("eumos-g").value_or(p.eumos_g);
+  if (auto duration = args.number("duration")) {
+    p.duration_s = *duration;
+  } else if (!use_suggested) {
+    p.duration_s = default_duration(p);
+  }
+  return p;
+}
+
+Json solve_json(const SimResult& sim, const ConveyorProfile& profile) {
+  Json j;
+  j["outcome"] = to_string(sim.outcome);
+  j["failure"] = failure_json(sim.failure);
+  if (sim.outcome == Outcome::unstable) j["reason"] = sim.reason;
+  j["steps"] = sim.steps;
+  j["sim_time_s"] = sim.sim_time_s;
+  j["stopped_early"] = sim.stopped_early;
+  j["wall_ms"] = sim.wall_ms;
+  j["profile"] = profile_to_json(profile);
+  return j;
+}
+
+int run_solve(const Args& args) {
+  const double hz = option_in_range(args, "solve", "hz", 30.0, 0.0, 1000.0, "frames per second");
+  auto input = pallet_arg(args.positionals()[0]);
+  if (!input) return kExitBadInput;
+  const ConveyorProfile profile = profile_from(args, input->suggested_profile);
+  const Diagnostics problems = validate_profile(profile, "/profile");
+  if (has_errors(problems)) {
+    print_diagnostics(problems);
+    return kExitBadInput;
+  }
+  std::optional<std::ofstream> replay_file;
+  if (auto path = args.text("replay")) replay_file = open_output("solve", *path);
+
+  Analyzer analyzer;
+  auto solve = analyzer.solve(input->pallet, profile, hz);
+  if (!solve) {
+    print_diagnostics(located(solve.diagnostics, *input));
+    return exit_code_for(solve.diagnostics);
+  }
+  if (replay_file) *replay_file << replay_to_json(solve->replay).dump() << "\n";
+  print_json(solve_json(solve->sim, profile));
+  if (solve->sim.outcome == Outcome::unstable) {
+    std::cerr << "palletballet-cli solve: the simulation became numerically unstable, so there is "
+                 "no verdict: "
+              << solve->sim.reason << "\n";
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+// ---- analyze ----
+
+AnalyzerOptions analyze_options(const Args& args) {
+  AnalyzerOptions o;
+  LineDescription& line = o.line;
+  SearchConfig& search = o.search;
+  line.estop_decel_mps2 =
+      option_in_range(args, "analyze", "estop-decel", line.estop_decel_mps2, 0.0, 20.0, "m/s^2");
+  line.curve_radius_m =
+      option_in_range(args, "analyze", "curve-radius", line.curve_radius_m, 0.0, 1000.0, "m");
+  search.speed_max_mps = option_in_range(args, "analyze", "speed-max", search.speed_max_mps,
+                                         search.speed_min_mps, 5.0, "m/s");
+  search.accel_max_mps2 = option_in_range(args, "analyze", "accel-max", search.accel_max_mps2,
+                                          search.accel_min_mps2, 10.0, "m/s^2");
+  return o;
+}
+
+Json probes_json(const std::vector<Probe>& probes) {
+  Json out = Json::array();
+  for (const auto& p : probes) {
+    out.push_back({{"axis", to_string(p.axis)},
+                   {"value", p.value},
+                   {"outcome", to_string(p.outcome)},
+                   {"mode", to_string(p.mode)},
+                   {"failure_time_s",
+                    p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)}});
+  }
+  return out;
+}
+
+struct FileAnalysis {
+  Json entry;
+  int exit_code = kExitOk;
+};
+
+FileAnalysis error_entry(const std::string& source, const Diagnostics& diagnostics, int code) {
+  for (const auto& d : errors_of(diagnostics)) {
+    std::cerr << "palletballet-cli analyze: " << source << ": " << to_string(d) << "\n";
+  }
+  return {{{"source", source}, {"error", messages_json(diagnostics)}}, code};
+}
+
+// One file's SafetyResult (from the analyzer's cache for a pallet seen before) or, with probes,
+// its full envelope: every file's search is then run so that its probes can be listed.
+FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool with_probes) {
+  auto input = read_pallet(source);
+  if (!input) return error_entry(source, input.diagnostics, kExitBadInput);
+  print_diagnostics(input.diagnostics);
+  Json entry;
+  if (with_probes) {
+    auto envelope = analyzer.envelope(input->pallet);
+    if (!envelope) {
+      const Diagnostics diags = located(envelope.diagnostics, *input);
+      return error_entry(source, diags, exit_code_for(diags));
+    }
+    entry = safety_result_to_json(envelope->result);
+    entry["probes"] = probes_json(envelope->probes);
+  } else {
+    auto result = analyzer.analyze(input->pallet);
+    if (!result) {
+      const Diagnostics diags = located(result.diagnostics, *input);
+      return error_entry(source, diags, exit_code_for(diags));
+    }
+    entry = safety_result_to_json(*result);
+  }
+  entry["source"] = source;
+  return {std::move(entry), kExitOk};
+}
+
+int run_analyze(const Args& args) {
+  Analyzer analyzer(analyze_options(args));
+  const bool with_probes = args.flag("probes");
+  Json results = Json::array();
+  int exit_code = kExitOk;
+  for (const auto& source : args.positionals()) {
+    FileAnalysis analysis = analyze_file(analyzer, source, with_probes);
+    results.push_back(std::move(analysis.entry));
+    exit_code = std::max(exit_code, analysis.exit_code);  // bad input (2) over a run failure (1)
+  }
+  print_json(results);
+  return exit_code;
+}
+
+// ---- bench ----
+
+struct BenchRun {
+  double solve_ms = 0.0;
+  double envelope_ms = 0.0;
+  double prepare_ms = 0.0;
+  int steps = 0;
+  Outcome outcome = Outcome::safe;
+  SafetyResult result;
+};
+
+// One cold run: a fresh Analyzer (compile and settle included) searches the envelope, then
+// solves the suggested profile on the settled scene.
+Result<BenchRun> bench_once(const Scenario& scenario) {
+  BenchRun run;
+  Analyzer analyzer;
+  const auto start = std::chrono::steady_clock::now();
+  auto envelope = analyzer.envelope(scenario.pallet);
+  if (!envelope) return Result<BenchRun>::failure(std::move(envelope.diagnostics));
+  run.envelope_ms = ms_since(start);
+  run.result = envelope->result;
+  auto prepared = analyzer.prepare(scenario.pallet);  // cached: reports its compile + settle
+  if (!prepared) return Result<BenchRun>::failure(std::move(prepared.diagnostics));
+  run.prepare_ms = (*prepared.value)->prepare_ms;
+  auto solve = analyzer.solve(scenario.pallet, scenario.suggested_profile);
+  if (!solve) return Result<BenchRun>::failure(std::move(solve.diagnostics));
+  run.solve_ms = solve->sim.wall_ms;
+  run.steps = solve->sim.steps;
+  run.outcome = solve->sim.outcome;
+  return Result<BenchRun>{std::move(run), {}};
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// The medians of `runs` cold runs of one scenario; {"scenario", "error"} if one fails.
+Json bench_scenario(const Scenario& scenario, int runs) {
+  std::vector<double> solve_ms, envelope_ms, prepare_ms;
+  BenchRun last;
+  for (int i = 0; i < runs; ++i) {
+    std::cerr << "bench: " << scenario.slug << " run " << i + 1 << "/" << runs << "\n";
+    auto run = bench_once(scenario);
+    if (!run) return {{"scenario", scenario.slug}, {"error", messages_json(run.diagnostics)}};
+    solve_ms.push_back(run->solve_ms);
+    envelope_ms.push_back(run->envelope_ms);
+    prepare_ms.push_back(run->prepare_ms);
+    last = std::move(*run.value);
+  }
+  const double solve = median(solve_ms);
+  const bool timed = last.steps > 0 && solve > 0.0;
+  return {{"scenario", scenario.slug},
+          {"items", scenario.pallet.items.size()},
+          {"runs", runs},
+          {"solve_ms_median", solve},
+          {"steps", last.steps},
+          {"steps_per_s", timed ? last.steps / (solve / 1000.0) : 0.0},
+          {"us_per_step", timed ? solve * 1000.0 / last.steps : 0.0},
+          {"outcome", to_string(last.outcome)},
+          {"prepare_ms_median", median(prepare_ms)},
+          {"envelope_ms_median", median(envelope_ms)},
+          {"sims_run", last.result.sims_run},
+          {"max_speed_mps", last.result.max_speed_mps},
+          {"max_accel_mps2", last.result.max_accel_mps2},
+          {"verdict", last.result.verdict}};
+}
+
+// A cell padded to `width`: text to the left, numbers to the right.
+std::string cell(const std::string& text, int width, bool left) {
+  std::ostringstream out;
+  out << (left ? std::left : std::right) << std::setw(width) << text;
+  return out.str();
+}
+
+// One aligned row per scenario under a header.
+void print_bench_table(const Json& rows) {
+  struct Column {
+    const char* key;
+    const char* title;
+    int width;
+    int decimals;  // -1: text
+  };
+  const std::vector<Column> columns = {{"scenario", "scenario", 26, -1},
+                                       {"items", "items", 5, 0},
+                                       {"solve_ms_median", "solve_ms", 9, 1},
+                                       {"steps", "steps", 6, 0},
+                                       {"us_per_step", "us/step", 8, 1},
+                                       {"steps_per_s", "steps/s", 8, 0},
+                                       {"outcome", "outcome", 8, -1},
+                                       {"prepare_ms_median", "prepare_ms", 10, 1},
+                                       {"envelope_ms_median", "envelope_ms", 11, 1},
+                                       {"sims_run", "sims", 5, 0},
+                                       {"max_speed_mps", "speed", 6, 2},
+                                       {"max_accel_mps2", "accel", 6, 2},
+                                       {"verdict", "verdict", 7, -1}};
+  auto print_line = [](std::string line) {
+    line.erase(line.find_last_not_of(' ') + 1);
+    std::cout << line << "\n";
+  };
+  std::string header;
+  for (const auto& c : columns) header += cell(c.title, c.width, c.decimals < 0) + " ";
+  print_line(header);
+  for (const auto& row : rows) {
+    if (row.contains("error")) {
+      print_line(cell(row["scenario"].get<std::string>(), 26, true) +
+                 " error: " + row["error"].dump());
+      continue;
+    }
+    std::string line;
+    for (const auto& c : columns) {
+      const Json& v = row[c.key];
+      line += cell(c.decimals < 0 ? v.get<std::string>() : fixed(v.get<double>(), c.decimals),
+                   c.width, c.decimals < 0) +
+              " ";
+    }
+    print_line(line);
+  }
+}
+
+int run_bench(const Args& args) {
+  const std::int64_t runs = args.integer("runs").value_or(3);
+  if (runs < 1 || runs > 1000) throw UsageError{"bench: --runs must be between 1 and 1000"};
+  std::vector<Scenario> scenarios;
+  if (auto slug = args.text("scenario")) {
+    auto scenario = load_scenario(*slug);
+    if (!scenario) {
+      print_diagnostics(scenario.diagnostics);
+      return kExitBadInput;
+    }
+    scenarios.push_back(std::move(*scenario.value));
+  } else {
+    scenarios = all_scenarios();
+  }
+  Json rows = Json::array();
+  int exit_code = kExitOk;
+  for (const auto& scenario : scenarios) {
+    rows.push_back(bench_scenario(scenario, static_cast<int>(runs)));
+    if (rows.back().contains("error")) exit_code = kExitFailure;
+  }
+  if (args.flag("json")) {
+    print_json(rows);
+  } else {
+    print_bench_table(rows);
+  }
+  return exit_code;
+}
+
+}  // namespace
+
+std::vector<Command> physics_commands() {
+  const std::string file =
+      "FILE is a PalletConfig file, a scenario file, - (stdin) or the slug of "
+      "a curated scenario.";
+  return {
+      {{"mjcf",
+        "mjcf FILE [--out PATH]",
+        "The MuJoCo scene (MJCF) of a pallet on the belt, as the physics core simulates it; "
+        "MuJoCo's viewer opens it. An invalid pallet exits 2 with every error as "
+        "'pointer: message'. " +
+            file,
+        {{"out", "PATH", "write the MJCF to PATH instead of stdout"}},
+        1,
+        1},
+       run_mjcf},
+      {{"solve",
+        "solve FILE --speed V --accel A [--profile SHAPE] [--duration S] [--decel D] "
+        "[--decel-start S] [--radius R] [--angle DEG] [--eumos-g K] [--replay OUT.json] "
+        "[--hz HZ]",
+        "Simulate one conveyor profile from rest and print the outcome, the first failure and "
+        "the run's statistics. Without --speed and --accel a scenario's suggested profile is run "
+        "(the other flags still override its fields). Exit 0 for a safe or failed outcome, 2 for "
+        "bad input, 1 when the simulation became unstable. " +
+            file,
+        {{"speed", "V", "target belt speed, m/s (required unless a scenario suggests a profile)"},
+         {"accel", "A", "acceleration, m/s^2 (required for accel_hold and ramp_decel)"},
+         {"profile", "SHAPE", enum_choices<ProfileShape>() + " (default accel_hold)"},
+         {"duration", "S",
+          "profile length, s (default: until the belt's motion last changes, plus 1 s)"},
+         {"decel", "D", "stop deceleration of estop, m/s^2 (default 2)"},
+         {"decel-start", "S", "when ramp_decel and estop start to slow down, s (default 3)"},
+         {"radius", "R", "curve radius, m (default 3)"},
+         {"angle", "DEG", "curve angle, deg (default 90)"},
+         {"eumos-g", "K", "EUMOS 40509 test pulse, in g (default 0.5)"},
+         {"replay", "OUT.json", "write the replay (poses at --hz) to OUT.json"},
+         {"hz", "HZ", "replay frame rate (default 30)"}},
+        1,
+        1},
+       run_solve},
+      {{"analyze",
+        "analyze FILE... [--estop-decel D] [--curve-radius R] [--speed-max V] "
+        "[--accel-max A] [--probes]",
+        "The safe envelope of each pallet: a JSON array of SafetyResult, each with its 'source'. "
+        "One analyzer serves every file, so a repeated pallet is answered from its cache (sims_run "
+        "0). A file that cannot be analysed gets {\"source\", \"error\": [...]} and the others "
+        "are still analysed; the exit code is then 2 if any input was bad, else 1. " +
+            file,
+        {{"estop-decel", "D", "emergency-stop deceleration of the line, m/s^2 (default 2)"},
+         {"curve-radius", "R", "tightest curve of the line, m (default 3)"},
+         {"speed-max", "V", "top of the speed search, m/s (default 2)"},
+         {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
+         {"probes", "",
+          "list every probe of each search (axis, value, outcome, mode, failure_time_s); every "
+          "file's search is then run, repeated pallets included"}},
+        1,
+        1000000},
+       run_analyze},
+      {{"bench",
+        "bench [--runs N] [--json] [--scenario SLUG]",
+        "Time every curated scenario (or one): the solve of its suggested profile and its "
+        "envelope from cold caches (compile and settle included, and reported apart), each the "
+        "median of N runs. A table by default.",
+        {{"runs", "N", "runs per scenario (default 3)"},
+         {"json", "", "print a JSON array instead of the table"},
+         {"scenario", "SLUG", "only this curated scenario"}},
+        0,
+        0},
+       run_bench},
+  };
+}
+
+}  // namespace pb::cli

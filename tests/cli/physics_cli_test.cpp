@@ -1,0 +1,503 @@
+// SPDX-License-Identifier: MIT
+// End-to-end runs of palletballet-cli's physics verbs: mjcf, solve, analyze, bench. Only small
+// pallets and the 6-8 item scenarios are simulated, so the whole file runs in seconds.
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QProcess>
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include <cmath>
+#include <string>
+
+#include "core/engine.hpp"
+#include "core/json_io.hpp"
+#include "core/replay.hpp"
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  QByteArray out;
+  QByteArray err;
+  QJsonDocument json() const { return QJsonDocument::fromJson(out); }
+};
+
+Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
+  QProcess p;
+  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
+  p.setArguments(args);
+  p.start();
+  if (!stdin_data.isEmpty()) p.write(stdin_data);
+  p.closeWriteChannel();
+  if (!p.waitForFinished(120000)) {
+    p.kill();
+    p.waitForFinished();
+  }
+  Run r;
+  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+  r.out = p.readAllStandardOutput();
+  r.err = p.readAllStandardError();
+  return r;
+}
+
+QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {
+  const QString path = dir.filePath(name);
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly)) return {};
+  f.write(data);
+  return path;
+}
+
+QByteArray read_file(const QString& path) {
+  QFile f(path);
+  if (!f.open(QIODevice::ReadOnly)) return {};
+  return f.readAll();
+}
+
+// Two 6 kg cartons side by side on an EUR pallet: the cheapest pallet worth simulating.
+QJsonObject two_cartons() {
+  auto carton = [](double x) {
+    return QJsonObject{{QStringLiteral("sku"), QStringLiteral("SKU-FD-002")},
+                       {QStringLiteral("dims_m"), QJsonArray{0.35, 0.25, 0.12}},
+                       {QStringLiteral("weight_kg"), 6.0},
+                       {QStringLiteral("position"), QJsonArray{x, 0.0, 0.15}},
+                       {QStringLiteral("center_of_mass"), QJsonArray{x, 0.0, 0.21}},
+                       {QStringLiteral("orientation_deg"), 0.0},
+                       {QStringLiteral("fragility"), QStringLiteral("rigid")}};
+  };
+  return {{QStringLiteral("pallet_id"), QStringLiteral("two-cartons")},
+          {QStringLiteral("base_pallet_type"), QStringLiteral("EUR")},
+          {QStringLiteral("base_dims_m"), QJsonArray{1.2, 0.8, 0.15}},
+          {QStringLiteral("base_mass_kg"), 25.0},
+          {QStringLiteral("items"), QJsonArray{carton(-0.2), carton(0.2)}},
+          {QStringLiteral("wrap"), QStringLiteral("none")},
+          {QStringLiteral("env"), QStringLiteral("refrigerated")},
+          {QStringLiteral("body_temp_c"), 2.0}};
+}
+
+QByteArray bytes(const QJsonObject& o) {
+  return QJsonDocument(o).toJson();
+}
+
+// The same pallet with a negative weight on its first item.
+QJsonObject with_bad_weight(QJsonObject pallet) {
+  QJsonArray items = pallet.value(QStringLiteral("items")).toArray();
+  QJsonObject first = items[0].toObject();
+  first[QStringLiteral("weight_kg")] = -3.0;
+  items[0] = first;
+  pallet[QStringLiteral("items")] = items;
+  return pallet;
+}
+
+QJsonObject scenario(const QString& slug) {
+  return cli({QStringLiteral("scenarios"), slug}).json().object();
+}
+
+double num(const QJsonObject& o, const char* key) {
+  return o.value(QLatin1String(key)).toDouble();
+}
+QString str(const QJsonObject& o, const char* key) {
+  return o.value(QLatin1String(key)).toString();
+}
+
+}  // namespace
+
+class PhysicsCliTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void verbsAreListed() {
+    Run r = cli({QStringLiteral("--help")});
+    QCOMPARE(r.exit_code, 0);
+    for (const char* verb : {"  mjcf ", "  solve ", "  analyze ", "  bench "}) {
+      QVERIFY2(r.out.contains(verb), verb);
+    }
+  }
+
+  void everyVerbHasHelp_data() {
+    QTest::addColumn<QString>("verb");
+    for (const char* v : {"mjcf", "solve", "analyze", "bench"}) {
+      QTest::newRow(v) << QString::fromLatin1(v);
+    }
+  }
+  void everyVerbHasHelp() {
+    QFETCH(QString, verb);
+    Run r = cli({verb, QStringLiteral("--help")});
+    QCOMPARE(r.exit_code, 0);
+    QVERIFY2(r.out.startsWith("usage: palletballet-cli " + verb.toUtf8()), r.out.constData());
+    QVERIFY(r.out.contains("--help"));
+    Run unknown = cli({verb, QStringLiteral("--no-such-flag")});
+    QCOMPARE(unknown.exit_code, 2);
+    QVERIFY2(unknown.err.contains("unknown option --no-such-flag"), unknown.err.constData());
+  }
+
+  // ---- mjcf ----
+
+  void mjcfOfAScenarioCompiles() {
+    Run r = cli({QStringLiteral("mjcf"), QStringLiteral("tall-unwrapped-tower")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    QVERIFY(r.out.startsWith("<mujoco"));
+    QCOMPARE(r.out.count("<body name=\"item_"), 8);
+    QCOMPARE(r.out.count("<body "), 10);  // belt, pallet, 8 items
+    auto model = pb::compile_mjcf(r.out.toStdString());
+    QVERIFY(model.ok());
+    QCOMPARE((*model)->nbody, 11);  // and the world
+    QVERIFY(r.err.isEmpty());
+
+    // --out writes the same text to a file and nothing to stdout.
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("scene.xml"));
+    Run out = cli({QStringLiteral("mjcf"), QStringLiteral("tall-unwrapped-tower"),
+                   QStringLiteral("--out"), path});
+    QCOMPARE(out.exit_code, 0);
+    QVERIFY(out.out.isEmpty());
+    QCOMPARE(read_file(path), r.out);
+  }
+
+  void mjcfFromStdinAndFromAScenarioFile() {
+    Run r = cli({QStringLiteral("mjcf"), QStringLiteral("-")}, bytes(two_cartons()));
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    QCOMPARE(r.out.count("<body name=\"item_"), 2);
+    QVERIFY(pb::compile_mjcf(r.out.toStdString()).ok());
+
+    QTemporaryDir dir;
+    const QJsonObject s = scenario(QStringLiteral("top-heavy-surprise"));
+    Run file = cli({QStringLiteral("mjcf"), write_file(dir, QStringLiteral("s.json"), bytes(s))});
+    QCOMPARE(file.exit_code, 0);
+    QCOMPARE(file.out.count("<body name=\"item_"), 6);
+    // The file and the slug are the same scene.
+    QCOMPARE(file.out, cli({QStringLiteral("mjcf"), QStringLiteral("top-heavy-surprise")}).out);
+  }
+
+  void mjcfRejectsAnInvalidPallet() {
+    QTemporaryDir dir;
+    Run plain = cli({QStringLiteral("mjcf"), write_file(dir, QStringLiteral("bad.json"),
+                                                        bytes(with_bad_weight(two_cartons())))});
+    QCOMPARE(plain.exit_code, 2);
+    QVERIFY(plain.out.isEmpty());
+    QVERIFY2(plain.err.contains("/items/0/weight_kg: "), plain.err.constData());
+
+    // In a scenario file, the pointers lead into its "pallet".
+    QJsonObject s = scenario(QStringLiteral("top-heavy-surprise"));
+    s[QStringLiteral("pallet")] = with_bad_weight(s.value(QStringLiteral("pallet")).toObject());
+    Run in_scenario =
+        cli({QStringLiteral("mjcf"), write_file(dir, QStringLiteral("s.json"), bytes(s))});
+    QCOMPARE(in_scenario.exit_code, 2);
+    QVERIFY2(in_scenario.err.contains("/pallet/items/0/weight_kg: "), in_scenario.err.constData());
+
+    Run missing = cli({QStringLiteral("mjcf"), dir.filePath(QStringLiteral("nope.json"))});
+    QCOMPARE(missing.exit_code, 2);
+    QVERIFY2(missing.err.contains("cannot open"), missing.err.constData());
+    QVERIFY(missing.err.contains("stable-dairy-slab"));  // the slugs it could have named
+
+    Run bad_out = cli({QStringLiteral("mjcf"), QStringLiteral("top-heavy-surprise"),
+                       QStringLiteral("--out"), dir.filePath(QStringLiteral("no/such/dir.xml"))});
+    QCOMPARE(bad_out.exit_code, 2);
+    QVERIFY2(bad_out.err.contains("cannot write"), bad_out.err.constData());
+  }
+
+  // ---- solve ----
+
+  void solveRunsASuggestedProfileAndWritesItsReplay() {
+    QTemporaryDir dir;
+    const QString replay_path = dir.filePath(QStringLiteral("replay.json"));
+    Run r = cli({QStringLiteral("solve"), QStringLiteral("tall-unwrapped-tower"),
+                 QStringLiteral("--replay"), replay_path});
+    QVERIFY2(r.exit_code == 0, r.err.constData());  // a failure is an answer
+    const QJsonObject o = r.json().object();
+    QCOMPARE(str(o, "outcome"), QStringLiteral("failed"));
+    QVERIFY(!o.contains(QStringLiteral("reason")));
+    const QJsonObject failure = o.value(QStringLiteral("failure")).toObject();
+    const QString mode = str(failure, "mode");
+    QVERIFY2(mode == QStringLiteral("tip_over") || mode == QStringLiteral("top_item_slide") ||
+                 mode == QStringLiteral("load_shift") || mode == QStringLiteral("pallet_slip"),
+             qPrintable(mode));
+    QVERIFY(str(failure, "description").startsWith(mode + QStringLiteral(" at ")));
+    QVERIFY(failure.value(QStringLiteral("items")).isArray());
+    // Fail-fast: the run ends at the failure.
+    QCOMPARE(num(o, "sim_time_s"), num(failure, "time_s"));
+    QVERIFY(o.value(QStringLiteral("steps")).toInt() > 0);
+    QCOMPARE(o.value(QStringLiteral("stopped_early")).toBool(), false);
+    QVERIFY(num(o, "wall_ms") > 0.0);
+    // The scenario's suggested profile, as stored.
+    const QJsonObject profile = o.value(QStringLiteral("profile")).toObject();
+    QCOMPARE(profile, scenario(QStringLiteral("tall-unwrapped-tower"))
+                          .value(QStringLiteral("suggested_profile"))
+                          .toObject());
+
+    auto json = pb::parse_json(read_file(replay_path).toStdString());
+    QVERIFY(json.ok());
+    auto replay = pb::replay_from_json(*json);
+    QVERIFY(replay.ok());
+    QCOMPARE(replay->outcome, std::string("failed"));
+    QVERIFY(replay->failure.has_value());
+    QCOMPARE(QString::fromStdString(std::string(pb::to_string(replay->failure->mode))), mode);
+    QCOMPARE(replay->failure->time_s, num(failure, "time_s"));
+    QCOMPARE(replay->pallet.items.size(), std::size_t{8});
+    QCOMPARE(replay->hz, 30.0);
+    QVERIFY(replay->frames.size() >= 2);
+    QCOMPARE(replay->frames.front().t, 0.0);
+    QCOMPARE(replay->frames.back().t, num(failure, "time_s"));
+  }
+
+  void solveBuildsTheProfileFromItsFlags() {
+    QTemporaryDir dir;
+    const QString path = write_file(dir, QStringLiteral("p.json"), bytes(two_cartons()));
+    Run r =
+        cli({QStringLiteral("solve"), path, QStringLiteral("--speed"), QStringLiteral("0.5"),
+             QStringLiteral("--accel"), QStringLiteral("0.5"), QStringLiteral("--replay"),
+             dir.filePath(QStringLiteral("r.json")), QStringLiteral("--hz"), QStringLiteral("10")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonObject o = r.json().object();
+    QCOMPARE(str(o, "outcome"), QStringLiteral("safe"));
+    QVERIFY(o.value(QStringLiteral("failure")).isNull());
+    const QJsonObject profile = o.value(QStringLiteral("profile")).toObject();
+    QCOMPARE(str(profile, "shape"), QStringLiteral("accel_hold"));
+    QCOMPARE(num(profile, "target_speed_mps"), 0.5);
+    QCOMPARE(num(profile, "accel_mps2"), 0.5);
+    QCOMPARE(num(profile, "duration_s"), 2.0);  // the 1 s ramp, plus 1 s
+    // Co-moving after the ramp: nothing can change, so the run stops before the 2 s.
+    QCOMPARE(o.value(QStringLiteral("stopped_early")).toBool(), true);
+    QVERIFY(num(o, "sim_time_s") >= 1.0 && num(o, "sim_time_s") < 2.0);
+    QCOMPARE(o.value(QStringLiteral("steps")).toInt(),
+             static_cast<int>(std::lround(num(o, "sim_time_s") / 0.002)));
+    auto replay = pb::replay_from_json(
+        *pb::parse_json(read_file(dir.filePath(QStringLiteral("r.json"))).toStdString()));
+    QVERIFY(replay.ok());
+    QCOMPARE(replay->outcome, std::string("safe"));
+    QCOMPARE(replay->hz, 10.0);
+    QCOMPARE(replay->frames[1].t, 0.1);
+
+    // An e-stop from stdin: no --accel needed; it lasts until the belt stands, plus 1 s.
+    Run estop = cli({QStringLiteral("solve"), QStringLiteral("-"), QStringLiteral("--profile"),
+                     QStringLiteral("estop"), QStringLiteral("--speed"), QStringLiteral("1"),
+                     QStringLiteral("--decel"), QStringLiteral("1"),
+                     QStringLiteral("--decel-start"), QStringLiteral("0.2")},
+                    bytes(two_cartons()));
+    QVERIFY2(estop.exit_code == 0, estop.err.constData());
+    const QJsonObject e = estop.json().object().value(QStringLiteral("profile")).toObject();
+    QCOMPARE(str(e, "shape"), QStringLiteral("estop"));
+    QCOMPARE(num(e, "decel_mps2"), 1.0);
+    QCOMPARE(num(e, "decel_start_s"), 0.2);
+    QVERIFY(std::abs(num(e, "duration_s") - 2.2) < 1e-12);
+
+    // Flags override a suggested profile's fields only when --speed and --accel are absent.
+    Run longer = cli({QStringLiteral("solve"), QStringLiteral("top-heavy-surprise"),
+                      QStringLiteral("--duration"), QStringLiteral("0.5")});
+    QVERIFY2(longer.exit_code == 0, longer.err.constData());
+    const QJsonObject l = longer.json().object().value(QStringLiteral("profile")).toObject();
+    QCOMPARE(num(l, "duration_s"), 0.5);
+    QCOMPARE(num(l, "accel_mps2"), 4.0);  // the scenario's
+    QVERIFY(num(longer.json().object(), "sim_time_s") <= 0.5);
+  }
+
+  void solveBadInput_data() {
+    QTest::addColumn<QStringList>("args");
+    QTest::addColumn<QString>("message");
+    const QString p = QStringLiteral("P");  // replaced by the pallet file
+    auto row = [&](const char* name, QStringList args, const char* message) {
+      QTest::newRow(name) << args << QString::fromLatin1(message);
+    };
+    row("speed not a number", {p, "--speed", "fast", "--accel", "1"}, "--speed expects a number");
+    row("no speed", {p, "--accel", "1"}, "--speed is required");
+    row("no accel", {p, "--speed", "1"}, "--accel is required for the accel_hold profile");
+    row("zero accel", {p, "--speed", "1", "--accel", "0"}, "/profile/accel_mps2: ");
+    row("too fast", {p, "--speed", "6", "--accel", "1"}, "/profile/target_speed_mps: ");
+    row("too long", {p, "--speed", "1", "--accel", "1", "--duration", "40"},
+        "/profile/duration_s: ");
+    row("bad curve", {p, "--profile", "curve", "--speed", "1", "--radius", "-2"},
+        "/profile/curve_radius_m: ");
+    row("unknown shape", {p, "--profile", "zigzag", "--speed", "1"},
+        "accel_hold, constant, ramp_decel, estop, curve or eumos");
+    row("zero hz", {p, "--speed", "1", "--accel", "1", "--hz", "0"}, "--hz must be above 0");
+    row("bad replay path", {p, "--speed", "1", "--accel", "1", "--replay", "/no/such/dir/r.json"},
+        "cannot write");
+    row("no file", {"--speed", "1", "--accel", "1"}, "missing argument");
+    row("unknown slug", {"no-such-scenario", "--speed", "1", "--accel", "1"}, "cannot open");
+  }
+  void solveBadInput() {
+    QFETCH(QStringList, args);
+    QFETCH(QString, message);
+    QTemporaryDir dir;
+    const QString path = write_file(dir, QStringLiteral("p.json"), bytes(two_cartons()));
+    for (QString& a : args) {
+      if (a == QStringLiteral("P")) a = path;
+    }
+    Run r = cli(QStringList{QStringLiteral("solve")} + args);
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY(r.out.isEmpty());
+    QVERIFY2(r.err.contains(message.toUtf8()), r.err.constData());
+  }
+
+  void solveRejectsAnInvalidPallet() {
+    Run r = cli({QStringLiteral("solve"), QStringLiteral("-"), QStringLiteral("--speed"),
+                 QStringLiteral("1"), QStringLiteral("--accel"), QStringLiteral("1")},
+                bytes(with_bad_weight(two_cartons())));
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY(r.out.isEmpty());
+    QVERIFY2(r.err.contains("/items/0/weight_kg: "), r.err.constData());
+  }
+
+  // ---- analyze ----
+
+  void analyzeAnswersARepeatedFileFromTheCache() {
+    QTemporaryDir dir;
+    const QJsonObject pallet =
+        scenario(QStringLiteral("tall-unwrapped-tower")).value(QStringLiteral("pallet")).toObject();
+    const QString good = write_file(dir, QStringLiteral("tower.json"), bytes(pallet));
+    const QString bad =
+        write_file(dir, QStringLiteral("bad.json"), bytes(with_bad_weight(two_cartons())));
+    Run r = cli({QStringLiteral("analyze"), good, bad, good});
+    QCOMPARE(r.exit_code, 2);  // the bad file; the others are still analysed
+    const QJsonArray list = r.json().array();
+    QCOMPARE(list.size(), 3);
+
+    const QJsonObject first = list[0].toObject();
+    const QJsonObject error = list[1].toObject();
+    const QJsonObject again = list[2].toObject();
+    QCOMPARE(str(first, "source"), good);
+    QCOMPARE(str(error, "source"), bad);
+    QCOMPARE(str(again, "source"), good);
+
+    QCOMPARE(error.size(), 2);  // "source" and "error" only
+    const QJsonArray messages = error.value(QStringLiteral("error")).toArray();
+    QVERIFY(!messages.isEmpty());
+    QVERIFY2(messages[0].toString().startsWith(QStringLiteral("/items/0/weight_kg: ")),
+             qPrintable(messages[0].toString()));
+    QVERIFY2(r.err.contains(bad.toUtf8() + ": /items/0/weight_kg: "), r.err.constData());
+
+    QVERIFY(first.value(QStringLiteral("sims_run")).toInt() > 0);
+    QCOMPARE(again.value(QStringLiteral("sims_run")).toInt(), 0);
+    for (const char* key : {"max_speed_mps", "max_accel_mps2", "max_decel_mps2", "max_lateral_g",
+                            "margin_pct", "confidence"}) {
+      QCOMPARE(num(again, key), num(first, key));
+    }
+    for (const char* key :
+         {"dominant_failure_mode", "accel_mode", "decel_mode", "lateral_mode", "speed_mode",
+          "speed_governed_by", "verdict", "reason", "config_hash", "pallet_id"}) {
+      QCOMPARE(str(again, key), str(first, key));
+    }
+    QCOMPARE(str(first, "pallet_id"), QStringLiteral("tall-unwrapped-tower"));
+    QCOMPARE(str(first, "config_hash").size(), 64);
+    QVERIFY(num(first, "max_accel_mps2") > 0.0);
+    QVERIFY(!first.contains(QStringLiteral("probes")));
+  }
+
+  void analyzeListsProbesAndUsesTheLine() {
+    Run r =
+        cli({QStringLiteral("analyze"), QStringLiteral("-"), QStringLiteral("--probes"),
+             QStringLiteral("--estop-decel"), QStringLiteral("1.5"),
+             QStringLiteral("--curve-radius"), QStringLiteral("4"), QStringLiteral("--accel-max"),
+             QStringLiteral("4"), QStringLiteral("--speed-max"), QStringLiteral("1.5")},
+            bytes(two_cartons()));
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray list = r.json().array();
+    QCOMPARE(list.size(), 1);
+    const QJsonObject o = list[0].toObject();
+    QCOMPARE(str(o, "source"), QStringLiteral("-"));
+    QCOMPARE(num(o, "line_estop_decel_mps2"), 1.5);
+    QCOMPARE(num(o, "line_curve_radius_m"), 4.0);
+    QVERIFY(num(o, "max_accel_mps2") <= 4.0);
+    QVERIFY(num(o, "max_speed_mps") <= 1.5);
+    const QJsonArray probes = o.value(QStringLiteral("probes")).toArray();
+    QCOMPARE(probes.size(), o.value(QStringLiteral("sims_run")).toInt());
+    QSet<QString> axes;
+    for (const QJsonValue& v : probes) {
+      const QJsonObject p = v.toObject();
+      QCOMPARE(p.size(), 5);
+      axes.insert(str(p, "axis"));
+      const bool failed = str(p, "outcome") == QStringLiteral("failed");
+      QVERIFY(failed || str(p, "outcome") == QStringLiteral("safe"));
+      QCOMPARE(p.value(QStringLiteral("failure_time_s")).isNull(), !failed);
+      QCOMPARE(str(p, "mode") == QStringLiteral("no_failure"), !failed);
+      if (failed) QVERIFY(num(p, "failure_time_s") > 0.0);
+      if (str(p, "axis") == QStringLiteral("accel")) QVERIFY(num(p, "value") <= 4.0);
+      if (str(p, "axis") == QStringLiteral("speed")) QVERIFY(num(p, "value") <= 1.5);
+    }
+    QCOMPARE(axes, (QSet<QString>{QStringLiteral("accel"), QStringLiteral("decel"),
+                                  QStringLiteral("lateral"), QStringLiteral("speed")}));
+  }
+
+  void analyzeBadInput() {
+    Run none = cli({QStringLiteral("analyze")});
+    QCOMPARE(none.exit_code, 2);
+    QVERIFY(none.err.contains("missing argument"));
+    Run speed = cli({QStringLiteral("analyze"), QStringLiteral("top-heavy-surprise"),
+                     QStringLiteral("--speed-max"), QStringLiteral("0.05")});
+    QCOMPARE(speed.exit_code, 2);
+    QVERIFY2(speed.err.contains("--speed-max must be above 0.1 and at most 5 m/s"),
+             speed.err.constData());
+    Run decel = cli({QStringLiteral("analyze"), QStringLiteral("top-heavy-surprise"),
+                     QStringLiteral("--estop-decel"), QStringLiteral("hard")});
+    QCOMPARE(decel.exit_code, 2);
+    QVERIFY(decel.err.contains("--estop-decel expects a number"));
+    Run missing = cli({QStringLiteral("analyze"), QStringLiteral("no-such-file.json")});
+    QCOMPARE(missing.exit_code, 2);
+    const QJsonArray list = missing.json().array();
+    QCOMPARE(list.size(), 1);
+    QCOMPARE(str(list[0].toObject(), "source"), QStringLiteral("no-such-file.json"));
+    QVERIFY(list[0]
+                .toObject()
+                .value(QStringLiteral("error"))
+                .toArray()[0]
+                .toString()
+                .contains(QStringLiteral("cannot open 'no-such-file.json'")));
+  }
+
+  // ---- bench ----
+
+  void benchJson() {
+    Run r = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("1"),
+                 QStringLiteral("--json"), QStringLiteral("--scenario"),
+                 QStringLiteral("tall-unwrapped-tower")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 1);
+    const QJsonObject o = rows[0].toObject();
+    QCOMPARE(str(o, "scenario"), QStringLiteral("tall-unwrapped-tower"));
+    QCOMPARE(o.value(QStringLiteral("items")).toInt(), 8);
+    QCOMPARE(o.value(QStringLiteral("runs")).toInt(), 1);
+    for (const char* key : {"solve_ms_median", "envelope_ms_median", "prepare_ms_median",
+                            "steps_per_s", "us_per_step", "max_speed_mps", "max_accel_mps2"}) {
+      QVERIFY2(num(o, key) > 0.0, key);
+    }
+    QVERIFY(o.value(QStringLiteral("sims_run")).toInt() > 0);
+    const int steps = o.value(QStringLiteral("steps")).toInt();
+    QVERIFY(steps > 0);
+    QVERIFY(num(o, "envelope_ms_median") > num(o, "prepare_ms_median"));
+    QVERIFY(std::abs(num(o, "steps_per_s") * num(o, "solve_ms_median") / 1000.0 - steps) < 1e-6);
+    QVERIFY(std::abs(num(o, "us_per_step") * steps - num(o, "solve_ms_median") * 1000.0) < 1e-6);
+    QCOMPARE(str(o, "outcome"), QStringLiteral("failed"));  // as `solve` of the same scenario
+    QCOMPARE(str(o, "verdict"), QStringLiteral("ok"));
+  }
+
+  void benchTable() {
+    Run r = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("1"),
+                 QStringLiteral("--scenario"), QStringLiteral("top-heavy-surprise")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QList<QByteArray> lines = r.out.trimmed().split('\n');
+    QCOMPARE(lines.size(), 2);
+    QVERIFY(lines[0].startsWith("scenario "));
+    QVERIFY(lines[0].contains("solve_ms") && lines[0].contains("envelope_ms"));
+    QVERIFY(lines[1].startsWith("top-heavy-surprise "));
+    QCOMPARE(lines[1].simplified().split(' ').size(), 13);  // one cell per column
+    QVERIFY(!lines[1].endsWith(' '));
+  }
+
+  void benchBadInput() {
+    Run runs = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("0")});
+    QCOMPARE(runs.exit_code, 2);
+    QVERIFY(runs.err.contains("--runs must be between 1 and 1000"));
+    Run word = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("many")});
+    QCOMPARE(word.exit_code, 2);
+    QVERIFY(word.err.contains("--runs expects a whole number"));
+    Run slug = cli({QStringLiteral("bench"), QStringLiteral("--scenario"), QStringLiteral("nope")});
+    QCOMPARE(slug.exit_code, 2);
+    QVERIFY(slug.err.contains("no curated scenario 'nope'"));
+  }
+};
+
+QTEST_GUILESS_MAIN(PhysicsCliTest)
+#include "physics_cli_test.moc"
