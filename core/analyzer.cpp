@@ -60,6 +60,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
   env->result.sim_runtime_ms = ms_since(start);
+  results_.insert_or_assign(p.fingerprint, env->result);
   return env;
 }
 
@@ -76,7 +77,6 @@ Result<SafetyResult> Analyzer::analyze(const PalletConfig& config) {
   }
   auto env = envelope(config);
   if (!env) return Result<SafetyResult>::failure(std::move(env.diagnostics));
-  results_.emplace(key, env->result);
   return Result<SafetyResult>{env->result, std::move(env.diagnostics)};
 }
 
