@@ -7,40 +7,13 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include "cli_runner.hpp"
+
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  QByteArray out;
-  QByteArray err;
-  QJsonDocument json() const { return QJsonDocument::fromJson(out); }
-};
-
-Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
-  QProcess p;
-  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
-  p.setArguments(args);
-  p.start();
-  if (!stdin_data.isEmpty()) p.write(stdin_data);
-  p.closeWriteChannel();
-  if (!p.waitForFinished(120000)) {
-    p.kill();
-    p.waitForFinished();
-  }
-  Run r;
-  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
-  r.out = p.readAllStandardOutput();
-  r.err = p.readAllStandardError();
-  return r;
-}
-
-QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {
-  const QString path = dir.filePath(name);
-  QFile f(path);
-  if (!f.open(QIODevice::WriteOnly)) return {};
-  f.write(data);
-  return path;
-}
+using pb::test::cli;
+using pb::test::Run;
+using pb::test::write_file;
 
 }  // namespace
 
@@ -88,7 +61,11 @@ class CliTest : public QObject {
     Run one = cli({QStringLiteral("scenarios"), QStringLiteral("frozen-meat-sprint")});
     QCOMPARE(one.exit_code, 0);
     const QJsonObject s = one.json().object();
-    QCOMPARE(s.value(QStringLiteral("pallet")).toObject().value(QStringLiteral("items")).toArray().size(),
+    QCOMPARE(s.value(QStringLiteral("pallet"))
+                 .toObject()
+                 .value(QStringLiteral("items"))
+                 .toArray()
+                 .size(),
              24);
     QCOMPARE(s.value(QStringLiteral("suggested_profile"))
                  .toObject()
@@ -107,7 +84,8 @@ class CliTest : public QObject {
     QVERIFY2(r.exit_code == 0, r.err.constData());
     for (const QJsonValue& v : r.json().array()) {
       const QJsonObject o = v.toObject();
-      QVERIFY(o.value(QStringLiteral("validation")).toObject().value(QStringLiteral("valid")).toBool());
+      QVERIFY(
+          o.value(QStringLiteral("validation")).toObject().value(QStringLiteral("valid")).toBool());
       QVERIFY(o.value(QStringLiteral("recipe_matches")).toBool());
     }
     QCOMPARE(r.err.count("ok      "), 7);
@@ -117,10 +95,12 @@ class CliTest : public QObject {
     Run all = cli({QStringLiteral("catalog")});
     QCOMPARE(all.exit_code, 0);
     QCOMPARE(all.json().array().size(), 30);
-    Run frozen = cli({QStringLiteral("catalog"), QStringLiteral("--env"), QStringLiteral("frozen")});
+    Run frozen =
+        cli({QStringLiteral("catalog"), QStringLiteral("--env"), QStringLiteral("frozen")});
     QCOMPARE(frozen.exit_code, 0);
     for (const QJsonValue& v : frozen.json().array()) {
-      QCOMPARE(v.toObject().value(QStringLiteral("default_env")).toString(), QStringLiteral("frozen"));
+      QCOMPARE(v.toObject().value(QStringLiteral("default_env")).toString(),
+               QStringLiteral("frozen"));
     }
     QVERIFY(frozen.json().array().size() > 0 && frozen.json().array().size() < 30);
     Run bad = cli({QStringLiteral("catalog"), QStringLiteral("--env"), QStringLiteral("tropical")});
@@ -131,8 +111,7 @@ class CliTest : public QObject {
   void validateGoodFileAndStdin() {
     QTemporaryDir dir;
     Run scenario = cli({QStringLiteral("scenarios"), QStringLiteral("stable-dairy-slab")});
-    const QJsonObject pallet =
-        scenario.json().object().value(QStringLiteral("pallet")).toObject();
+    const QJsonObject pallet = scenario.json().object().value(QStringLiteral("pallet")).toObject();
     const QByteArray bytes = QJsonDocument(pallet).toJson();
     const QString path = write_file(dir, QStringLiteral("pallet.json"), bytes);
     Run file = cli({QStringLiteral("validate"), path});
@@ -142,7 +121,8 @@ class CliTest : public QObject {
     Run stdin_run = cli({QStringLiteral("validate"), QStringLiteral("-")}, bytes);
     QCOMPARE(stdin_run.exit_code, 0);
     // A whole scenario file validates through its "pallet".
-    Run whole = cli({QStringLiteral("validate"), write_file(dir, QStringLiteral("s.json"), scenario.out)});
+    Run whole =
+        cli({QStringLiteral("validate"), write_file(dir, QStringLiteral("s.json"), scenario.out)});
     QCOMPARE(whole.exit_code, 0);
   }
 
@@ -170,8 +150,8 @@ class CliTest : public QObject {
 
   void validateBadInput() {
     QTemporaryDir dir;
-    Run syntax = cli({QStringLiteral("validate"),
-                      write_file(dir, QStringLiteral("x.json"), QByteArrayLiteral("{\"items\": [}"))});
+    Run syntax = cli({QStringLiteral("validate"), write_file(dir, QStringLiteral("x.json"),
+                                                             QByteArrayLiteral("{\"items\": [}"))});
     QCOMPARE(syntax.exit_code, 2);
     QVERIFY(!syntax.err.isEmpty());
     Run missing = cli({QStringLiteral("validate"), dir.filePath(QStringLiteral("nope.json"))});
@@ -187,7 +167,8 @@ class CliTest : public QObject {
   }
 
   void randomIsDeterministicAndValid() {
-    const QStringList args = {QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("42")};
+    const QStringList args = {QStringLiteral("random"), QStringLiteral("--seed"),
+                              QStringLiteral("42")};
     Run a = cli(args);
     Run b = cli(args);
     QCOMPARE(a.exit_code, 0);
@@ -198,8 +179,8 @@ class CliTest : public QObject {
     Run v = cli({QStringLiteral("validate"), QStringLiteral("-")}, a.out);
     QVERIFY2(v.exit_code == 0, v.err.constData());
     Run small = cli({QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("7"),
-                     QStringLiteral("--min-layers"), QStringLiteral("2"), QStringLiteral("--max-layers"),
-                     QStringLiteral("2")});
+                     QStringLiteral("--min-layers"), QStringLiteral("2"),
+                     QStringLiteral("--max-layers"), QStringLiteral("2")});
     QCOMPARE(small.exit_code, 0);
   }
 
@@ -207,7 +188,8 @@ class CliTest : public QObject {
     Run seed = cli({QStringLiteral("random"), QStringLiteral("--seed"), QStringLiteral("abc")});
     QCOMPARE(seed.exit_code, 2);
     QVERIFY(seed.err.contains("--seed expects a whole number"));
-    Run rate = cli({QStringLiteral("random"), QStringLiteral("--anomaly-rate"), QStringLiteral("2")});
+    Run rate =
+        cli({QStringLiteral("random"), QStringLiteral("--anomaly-rate"), QStringLiteral("2")});
     QCOMPARE(rate.exit_code, 2);
     QVERIFY2(rate.err.contains("--anomaly-rate"), rate.err.constData());
     Run layers = cli({QStringLiteral("random"), QStringLiteral("--min-layers"), QStringLiteral("5"),
@@ -223,8 +205,8 @@ class CliTest : public QObject {
     QCOMPARE(all.exit_code, 0);
     QCOMPARE(all.json().object().value(QStringLiteral("pairs")).toArray().size(), 6);
     Run one = cli({QStringLiteral("friction"), QStringLiteral("--pair"),
-                   QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"), QStringLiteral("-25"),
-                   QStringLiteral("--to"), QStringLiteral("-25")});
+                   QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"),
+                   QStringLiteral("-25"), QStringLiteral("--to"), QStringLiteral("-25")});
     QCOMPARE(one.exit_code, 0);
     const QJsonArray samples = one.json()
                                    .object()
@@ -238,8 +220,9 @@ class CliTest : public QObject {
     QCOMPARE(samples[0].toObject().value(QStringLiteral("mu_s")).toDouble(), 0.22);
     // Frost-melt: centre of the danger zone right after the change.
     Run melt = cli({QStringLiteral("friction"), QStringLiteral("--pair"),
-                    QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"), QStringLiteral("3"),
-                    QStringLiteral("--to"), QStringLiteral("3"), QStringLiteral("--since"), QStringLiteral("0")});
+                    QStringLiteral("wood_pallet/rubber_belt"), QStringLiteral("--from"),
+                    QStringLiteral("3"), QStringLiteral("--to"), QStringLiteral("3"),
+                    QStringLiteral("--since"), QStringLiteral("0")});
     const QJsonObject s = melt.json()
                               .object()
                               .value(QStringLiteral("pairs"))
@@ -256,7 +239,8 @@ class CliTest : public QObject {
   }
 
   void frictionBadInput() {
-    Run pair = cli({QStringLiteral("friction"), QStringLiteral("--pair"), QStringLiteral("ice/ice")});
+    Run pair =
+        cli({QStringLiteral("friction"), QStringLiteral("--pair"), QStringLiteral("ice/ice")});
     QCOMPARE(pair.exit_code, 2);
     QVERIFY(pair.err.contains("wood_pallet/rubber_belt"));
     Run step = cli({QStringLiteral("friction"), QStringLiteral("--step"), QStringLiteral("0")});

@@ -15,46 +15,14 @@
 #include "core/json_io.hpp"
 #include "core/replay.hpp"
 
+#include "cli_runner.hpp"
+
 namespace {
 
-struct Run {
-  int exit_code = -1;
-  QByteArray out;
-  QByteArray err;
-  QJsonDocument json() const { return QJsonDocument::fromJson(out); }
-};
-
-Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
-  QProcess p;
-  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
-  p.setArguments(args);
-  p.start();
-  if (!stdin_data.isEmpty()) p.write(stdin_data);
-  p.closeWriteChannel();
-  if (!p.waitForFinished(120000)) {
-    p.kill();
-    p.waitForFinished();
-  }
-  Run r;
-  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
-  r.out = p.readAllStandardOutput();
-  r.err = p.readAllStandardError();
-  return r;
-}
-
-QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {
-  const QString path = dir.filePath(name);
-  QFile f(path);
-  if (!f.open(QIODevice::WriteOnly)) return {};
-  f.write(data);
-  return path;
-}
-
-QByteArray read_file(const QString& path) {
-  QFile f(path);
-  if (!f.open(QIODevice::ReadOnly)) return {};
-  return f.readAll();
-}
+using pb::test::cli;
+using pb::test::read_file;
+using pb::test::Run;
+using pb::test::write_file;
 
 // Two 6 kg cartons side by side on an EUR pallet: the cheapest pallet worth simulating.
 QJsonObject two_cartons() {

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "test_pallets.hpp"
+
 using namespace pb;
 
 namespace {
@@ -26,23 +28,8 @@ ContactFriction friction() {
   return f;
 }
 
-Item carton(double x, double y, double z, Vec3 dims = {0.4, 0.3, 0.2}, double kg = 10.0,
-            double yaw = 0.0) {
-  Item item;
-  item.sku = "test";
-  item.weight_kg = kg;
-  item.dims_m = dims;
-  item.position = {x, y, z};
-  item.orientation_deg = yaw;
-  return item;
-}
-
-PalletConfig pallet(std::vector<Item> items, WrapType wrap = WrapType::none) {
-  PalletConfig config;  // EUR 1.2 x 0.8 x 0.15 m, 25 kg: the deck is at z = 0.15
-  config.items = std::move(items);
-  config.wrap = wrap;
-  return config;
-}
+using test::carton;
+using test::pallet;
 
 bool near(double a, double b) {
   return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b));

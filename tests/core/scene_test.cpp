@@ -13,6 +13,7 @@
 #include "core/validation.hpp"
 #include "core/wrap.hpp"
 #include "test_friction.hpp"
+#include "test_pallets.hpp"
 
 using namespace pb;
 
@@ -27,23 +28,8 @@ const FrictionModel& friction_model() {
   return model;
 }
 
-Item carton(double x, double y, double z, Vec3 dims = {0.4, 0.3, 0.2}, double kg = 10.0,
-            double yaw = 0.0) {
-  Item item;
-  item.sku = "test";
-  item.weight_kg = kg;
-  item.dims_m = dims;
-  item.position = {x, y, z};
-  item.orientation_deg = yaw;
-  return item;
-}
-
-PalletConfig pallet(std::vector<Item> items, WrapType wrap = WrapType::none) {
-  PalletConfig config;
-  config.items = std::move(items);
-  config.wrap = wrap;
-  return config;
-}
+using test::carton;
+using test::pallet;
 
 ContactFriction friction_of(const PalletConfig& config) {
   auto friction = friction_model().for_pallet(config);

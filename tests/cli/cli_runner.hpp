@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+// Runs palletballet-cli as a user would and collects what it printed.
+#pragma once
+
+#include <QByteArray>
+#include <QFile>
+#include <QJsonDocument>
+#include <QProcess>
+#include <QString>
+#include <QStringList>
+#include <QTemporaryDir>
+
+namespace pb::test {
+
+struct Run {
+  int exit_code = -1;
+  QByteArray out;
+  QByteArray err;
+  QJsonDocument json() const { return QJsonDocument::fromJson(out); }
+};
+
+inline Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
+  QProcess p;
+  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
+  p.setArguments(args);
+  p.start();
+  if (!stdin_data.isEmpty()) p.write(stdin_data);
+  p.closeWriteChannel();
+  if (!p.waitForFinished(120000)) {
+    p.kill();
+    p.waitForFinished();
+  }
+  Run r;
+  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+  r.out = p.readAllStandardOutput();
+  r.err = p.readAllStandardError();
+  return r;
+}
+
+inline QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {
+  const QString path = dir.filePath(name);
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly)) return {};
+  f.write(data);
+  return path;
+}
+
+inline QByteArray read_file(const QString& path) {
+  QFile f(path);
+  if (!f.open(QIODevice::ReadOnly)) return {};
+  return f.readAll();
+}
+
+}  // namespace pb::test
