@@ -73,9 +73,13 @@ std::vector<double> ConveyorProfile::breakpoints() const {
       break;
     case ProfileShape::constant:
       break;
-    case ProfileShape::ramp_decel:
-      out = {ramp_up, decel_start_s, decel_start_s + target_speed_mps / std::max(accel_mps2, 1e-9)};
+    case ProfileShape::ramp_decel: {
+      const double stop = decel_start_s + ramp_up;
+      // A decel that starts before the ramp ends meets it halfway: the belt peaks there.
+      out = decel_start_s >= ramp_up ? std::vector<double>{ramp_up, decel_start_s, stop}
+                                     : std::vector<double>{0.5 * (ramp_up + decel_start_s), stop};
       break;
+    }
     case ProfileShape::estop:
       out = {decel_start_s, decel_start_s + target_speed_mps / std::max(decel_mps2, 1e-9)};
       break;

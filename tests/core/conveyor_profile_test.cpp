@@ -138,6 +138,10 @@ class ConveyorProfileTest : public QObject {
     p = profile(ProfileShape::ramp_decel, 1.0, 0.5, 3.0);
     p.duration_s = 10.0;
     QCOMPARE(q(p.breakpoints()), (QList<double>{2.0, 3.0, 5.0}));
+    // Decel from 1 s, before the 2 s ramp ends: the belt peaks at 1.5 s (0.75 m/s), stops at 3 s.
+    p.decel_start_s = 1.0;
+    QCOMPARE(q(p.breakpoints()), (QList<double>{1.5, 3.0}));
+    QCOMPARE(p.velocity_at(1.5), 0.75);
     QCOMPARE(p.lateral_accel_mps2(), 0.0);
     QCOMPARE(p.initial_speed_mps(), 0.0);
   }
