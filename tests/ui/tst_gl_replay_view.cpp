@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// The replay view, drawn for real (Xvfb + Mesa): at the failure time of the tall unwrapped tower
+// the failing item is red where its replay pose puts it, the other items and the pallet have their
+// own colours there, and far from the load is background. The screenshot is kept as an artifact.
+#include <QDir>
+#include <QImage>
+#include <QTest>
+
+#include "core/analyzer.hpp"
+#include "core/scenario.hpp"
+#include "ui/replay_view.hpp"
+
+using pb::ui::ReplayView;
+
+namespace {
+
+constexpr QSize kSize(800, 600);
+
+QVector3D toQt(const pb::Vec3& v) {
+  return QVector3D(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+}
+
+/// Hue distance in degrees (0..180).
+int hueDistance(const QColor& a, const QColor& b) {
+  const int d = std::abs(a.hsvHue() - b.hsvHue());
+  return std::min(d, 360 - d);
+}
+
+QString describe(const QColor& c) {
+  return QStringLiteral("rgb(%1, %2, %3)").arg(c.red()).arg(c.green()).arg(c.blue());
+}
+
+}  // namespace
+
+class TestGlReplayView : public QObject {
+  Q_OBJECT
+
+ private:
+  pb::Replay _replay;
+
+  /// The shaded colour at a pixel must be `base` scaled by a Lambert term: same hue, not darker
+  /// than the shader's ambient floor.
+  static void verifyShadeOf(const QImage& image, QPointF at, const QColor& base) {
+    const QColor seen = image.pixelColor(at.toPoint());
+    QVERIFY2(seen != ReplayView::backgroundColor(), qPrintable(describe(seen)));
+    QVERIFY2(hueDistance(seen, base) <= 6,
+             qPrintable(describe(seen) + QStringLiteral(" vs ") + describe(base)));
+    QVERIFY2(seen.value() >= base.value() / 2 && seen.value() <= base.value() + 1,
+             qPrintable(describe(seen) + QStringLiteral(" vs ") + describe(base)));
+  }
+
+ private slots:
+  void initTestCase() {
+    auto scenario = pb::load_scenario("tall-unwrapped-tower");
+    QVERIFY(scenario.ok());
+    pb::Analyzer analyzer;
+    auto solve = analyzer.solve(scenario->pallet, scenario->suggested_profile);
+    QVERIFY(solve.ok());
+    _replay = solve->replay;
+    QCOMPARE(_replay.outcome, std::string("failed"));
+    QVERIFY(_replay.failure.has_value());
+    QCOMPARE(_replay.failure->mode, pb::FailureMode::top_item_slide);
+    QCOMPARE(_replay.failure->items, std::vector<int>{7});
+  }
+
+  void openGlIsAvailableUnderXvfb() { QCOMPARE(ReplayView::probeOpenGl(), QString()); }
+
+  void interpolatesBetweenFrames() {
+    QVERIFY(_replay.frames.size() > 3);
+    const pb::ReplayFrame& a = _replay.frames[2];
+    const pb::ReplayFrame& b = _replay.frames[3];
+    const pb::ReplayFrame mid = ReplayView::frameAt(_replay, (a.t + b.t) / 2.0);
+    QCOMPARE(mid.belt_x, (a.belt_x + b.belt_x) / 2.0);
+    QCOMPARE(mid.items.size(), a.items.size());
+    const pb::Pose expected = pb::interpolate(a.items[7], b.items[7], 0.5);
+    for (int k = 0; k < 3; ++k) QVERIFY(std::abs(mid.items[7].pos[k] - expected.pos[k]) < 1e-12);
+    for (int k = 0; k < 4; ++k) QVERIFY(std::abs(mid.items[7].quat[k] - expected.quat[k]) < 1e-12);
+    QVERIFY(mid.items[7] != a.items[7]);  // the item moves between these frames
+    QCOMPARE(ReplayView::frameAt(_replay, -1.0), _replay.frames.front());
+    QCOMPARE(ReplayView::frameAt(_replay, 99.0), _replay.frames.back());
+  }
+
+  void drawsTheFailure() {
+    ReplayView view;
+    view.resize(kSize);
+    view.setReplay(_replay);
+    view.setPreset(pb::ui::CameraPreset::iso);
+    view.setTime(_replay.failure->time_s);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QImage image = view.grabFramebuffer();
+    QVERIFY2(view.glProblem().isEmpty(), qPrintable(view.glProblem()));
+    QCOMPARE(image.size(), kSize);  // device pixel ratio 1
+
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)));
+    const QString path = QStringLiteral(PB_TEST_ARTIFACTS_DIR "/replay_tall-unwrapped-tower.png");
+    QVERIFY(image.save(path));
+    qInfo("screenshot: %s", qPrintable(path));
+
+    const pb::ReplayFrame& frame = view.currentFrame();
+    QCOMPARE(frame.t, _replay.failure->time_s);
+    // The failing (top) item: the highlight, unlit, at the projected centre of its top face (its
+    // centre proper lies behind the outline of its nearest vertical edge in this view).
+    const pb::Pose& top = frame.items[7];
+    const pb::Vec3 up = pb::rotate(top.quat, {0.0, 0.0, _replay.pallet.items[7].dims_m[2] / 2.0});
+    const QPointF failing =
+        view.project(toQt({top.pos[0] + up[0], top.pos[1] + up[1], top.pos[2] + up[2]}));
+    QCOMPARE(image.pixelColor(failing.toPoint()), ReplayView::highlightColor());
+    // A non-failing item: its SKU colour, shaded.
+    const QColor sku = ReplayView::skuColor(_replay.pallet.items[3].sku);
+    verifyShadeOf(image, view.project(toQt(frame.items[3].pos)), sku);
+    QVERIFY(image.pixelColor(view.project(toQt(frame.items[3].pos)).toPoint()) !=
+            ReplayView::highlightColor());
+    // The pallet: the centre of its front (+X) face, which faces the iso camera.
+    const double half = _replay.pallet.base_dims_m[0] / 2.0;
+    const pb::Vec3 front = pb::rotate(frame.pallet.quat, {half, 0.0, 0.0});
+    const QPointF palletFront =
+        view.project(toQt({frame.pallet.pos[0] + front[0], frame.pallet.pos[1] + front[1],
+                           frame.pallet.pos[2] + front[2]}));
+    verifyShadeOf(image, palletFront, QColor(176, 132, 84));
+    // Far from the load, above the horizon of the grid: background.
+    QCOMPARE(image.pixelColor(8, 8), ReplayView::backgroundColor());
+  }
+
+  void followKeepsTheFailingItemCentred() {
+    ReplayView view;
+    view.resize(kSize);
+    view.setReplay(_replay);
+    view.setFollowFailure(true);
+    view.setTime(_replay.failure->time_s);
+    const QPointF centre = view.project(toQt(view.currentFrame().items[7].pos));
+    QVERIFY(std::abs(centre.x() - kSize.width() / 2.0) < 0.5);
+    QVERIFY(std::abs(centre.y() - kSize.height() / 2.0) < 0.5);
+  }
+};
+
+QTEST_MAIN(TestGlReplayView)
+#include "tst_gl_replay_view.moc"

@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: MIT
+#include "ui/analysis_service.hpp"
+
+#include <QMetaObject>
+#include <QStringList>
+#include <exception>
+#include <utility>
+
+namespace pb::ui {
+
+namespace {
+
+/// "<what>: <pointer>: <message>; ..." from the errors of a failed core call.
+QString describeFailure(const QString& what, const pb::Diagnostics& diagnostics) {
+  QStringList parts;
+  for (const pb::Diagnostic& d : pb::errors_of(diagnostics)) {
+    parts << QString::fromStdString(pb::to_string(d));
+  }
+  if (parts.isEmpty()) parts << QStringLiteral("the core gave no reason");
+  return what + QStringLiteral(": ") + parts.join(QStringLiteral("; "));
+}
+
+void registerMetaTypes() {
+  qRegisterMetaType<pb::ui::RequestId>("pb::ui::RequestId");
+  qRegisterMetaType<pb::SafetyResult>();
+  qRegisterMetaType<pb::ui::SolvePtr>();
+  qRegisterMetaType<pb::ui::EnvelopePtr>();
+}
+
+}  // namespace
+
+AnalysisService::AnalysisService(pb::AnalyzerOptions options, QObject* parent)
+    : QObject(parent), _analyzer(std::make_unique<pb::Analyzer>(std::move(options))) {
+  registerMetaTypes();
+  // One thread, kept for the service's life: requests run in order on one Analyzer.
+  _pool.setMaxThreadCount(1);
+  _pool.setExpiryTimeout(-1);
+}
+
+AnalysisService::~AnalysisService() {
+  {
+    std::lock_guard lock(_mutex);
+    _cancelled.insert(_pending.begin(), _pending.end());
+  }
+  _pool.clear();
+  _pool.waitForDone();
+}
+
+RequestId AnalysisService::analyze(const pb::PalletConfig& config) {
+  return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
+    reportProgress(id, tr("Compiling and settling the pallet"));
+    auto prepared = analyzer.prepare(config);
+    if (!prepared) {
+      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    reportProgress(id, tr("Searching the safe envelope"));
+    auto result = analyzer.analyze(config);
+    if (!result) {
+      QString message = describeFailure(tr("The analysis failed"), result.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    return [this, id, value = std::move(*result.value)] { emit analyzed(id, value); };
+  });
+}
+
+RequestId AnalysisService::envelope(const pb::PalletConfig& config) {
+  return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
+    reportProgress(id, tr("Compiling and settling the pallet"));
+    auto prepared = analyzer.prepare(config);
+    if (!prepared) {
+      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    reportProgress(id, tr("Searching the safe envelope"));
+    auto result = analyzer.envelope(config);
+    if (!result) {
+      QString message = describeFailure(tr("The envelope search failed"), result.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    EnvelopePtr value = std::make_shared<const pb::Envelope>(std::move(*result.value));
+    return [this, id, value] { emit envelopeReady(id, value); };
+  });
+}
+
+RequestId AnalysisService::solve(const pb::PalletConfig& config, const pb::ConveyorProfile& profile,
+                                 double replay_hz) {
+  return submit([this, config, profile, replay_hz](pb::Analyzer& analyzer,
+                                                   RequestId id) -> std::function<void()> {
+    reportProgress(id, tr("Compiling and settling the pallet"));
+    auto prepared = analyzer.prepare(config);
+    if (!prepared) {
+      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    reportProgress(id, tr("Simulating the profile"));
+    auto result = analyzer.solve(config, profile, replay_hz);
+    if (!result) {
+      QString message = describeFailure(tr("The profile cannot be simulated"), result.diagnostics);
+      return [this, id, message] { emit failed(id, message); };
+    }
+    if (result->sim.outcome == pb::Outcome::unstable) {
+      QString message = tr("The simulation became numerically unstable at t = %1 s, so this run "
+                           "has no verdict: %2")
+                            .arg(result->sim.sim_time_s, 0, 'f', 3)
+                            .arg(QString::fromStdString(result->sim.reason));
+      return [this, id, message] { emit failed(id, message); };
+    }
+    SolvePtr value = std::make_shared<const pb::Solve>(std::move(*result.value));
+    return [this, id, value] { emit solved(id, value); };
+  });
+}
+
+void AnalysisService::cancel(RequestId id) {
+  if (_pending.erase(id) == 0) return;
+  {
+    std::lock_guard lock(_mutex);
+    _cancelled.insert(id);
+  }
+  emit cancelled(id);
+}
+
+void AnalysisService::cancelAll() {
+  const std::set<RequestId> pending = _pending;
+  for (RequestId id : pending) cancel(id);
+}
+
+RequestId AnalysisService::submit(Job job) {
+  const RequestId id = _nextId++;
+  _pending.insert(id);
+  pb::Analyzer* analyzer = _analyzer.get();
+  _pool.start([this, id, analyzer, job = std::move(job)] {
+    if (isCancelled(id)) {
+      std::lock_guard lock(_mutex);
+      _cancelled.erase(id);
+      return;
+    }
+    std::function<void()> emitResult;
+    try {
+      emitResult = job(*analyzer, id);
+    } catch (const std::exception& e) {
+      // The core throws nothing by contract; a console must survive even an out-of-memory.
+      QString message =
+          tr("Internal error in the physics core: %1").arg(QString::fromUtf8(e.what()));
+      emitResult = [this, id, message] { emit failed(id, message); };
+    } catch (...) {
+      QString message = tr("Internal error in the physics core (unknown exception)");
+      emitResult = [this, id, message] { emit failed(id, message); };
+    }
+    QMetaObject::invokeMethod(
+        this, [this, id, emitResult] { finish(id, emitResult); }, Qt::QueuedConnection);
+  });
+  return id;
+}
+
+bool AnalysisService::isCancelled(RequestId id) const {
+  std::lock_guard lock(_mutex);
+  return _cancelled.contains(id);
+}
+
+void AnalysisService::finish(RequestId id, const std::function<void()>& emitResult) {
+  if (_pending.erase(id) == 0) {  // cancelled while it ran: drop the result
+    std::lock_guard lock(_mutex);
+    _cancelled.erase(id);
+    return;
+  }
+  emitResult();
+}
+
+void AnalysisService::reportProgress(RequestId id, const QString& step) {
+  QMetaObject::invokeMethod(
+      this,
+      [this, id, step] {
+        if (_pending.contains(id)) emit progress(id, step);
+      },
+      Qt::QueuedConnection);
+}
+
+}  // namespace pb::ui

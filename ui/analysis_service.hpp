@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+// The console's one door to the physics core: every core call runs on a worker thread, in the
+// order it was asked for, and its result comes back to the GUI thread as an immutable value.
+#pragma once
+
+#include <QObject>
+#include <QString>
+#include <QThreadPool>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <set>
+
+#include "core/analyzer.hpp"
+
+namespace pb::ui {
+
+/// Identifies one request to the service; never 0.
+using RequestId = quint64;
+/// Results shared between panels without copies; nobody may change them.
+using SolvePtr = std::shared_ptr<const pb::Solve>;
+using EnvelopePtr = std::shared_ptr<const pb::Envelope>;
+
+/// Runs pb::Analyzer calls on one worker thread of a private QThreadPool (the Analyzer is not
+/// thread-safe, so requests run one at a time, in order, and share its cache). The GUI thread
+/// never waits on the core.
+///
+/// Every request gets a non-zero id and ends with exactly one of analyzed / envelopeReady /
+/// solved, failed, or cancelled; progress() reports what the worker is doing meanwhile. All of
+/// these are emitted on the service's (GUI) thread. A cancelled request's result is dropped; a
+/// request that has not started is skipped, but a core call that has started (one MuJoCo probe or
+/// a whole envelope search) cannot be interrupted: it runs to its end, then is thrown away.
+class AnalysisService : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit AnalysisService(pb::AnalyzerOptions options = {}, QObject* parent = nullptr);
+  /// Cancels every request and waits for the core call that is running, if any, to end.
+  ~AnalysisService() override;
+
+  /// The SafetyResult of a pallet (cached by the Analyzer). Ends with analyzed() or failed().
+  RequestId analyze(const pb::PalletConfig& config);
+  /// The envelope with its probes. Ends with envelopeReady() or failed().
+  RequestId envelope(const pb::PalletConfig& config);
+  /// One profile from rest, with its replay. Ends with solved(), or failed() if the run was
+  /// numerically unstable (an unstable run has no verdict to show).
+  RequestId solve(const pb::PalletConfig& config, const pb::ConveyorProfile& profile,
+                  double replay_hz = 30.0);
+
+  /// Drops the request's result; it ends with cancelled(). Unknown or finished ids are ignored.
+  void cancel(RequestId id);
+  /// Cancels every request not yet ended.
+  void cancelAll();
+  /// Number of requests not yet ended (queued or running).
+  int pendingCount() const { return static_cast<int>(_pending.size()); }
+
+ signals:
+  /// The worker moved on to `step` ("Compiling and settling the pallet", ...).
+  void progress(pb::ui::RequestId id, const QString& step);
+  void analyzed(pb::ui::RequestId id, const pb::SafetyResult& result);
+  void envelopeReady(pb::ui::RequestId id, const pb::ui::EnvelopePtr& envelope);
+  void solved(pb::ui::RequestId id, const pb::ui::SolvePtr& solve);
+  /// The core refused the input, or the engine failed or went unstable: `message` says what to
+  /// change, for a person.
+  void failed(pb::ui::RequestId id, const QString& message);
+  void cancelled(pb::ui::RequestId id);
+
+ private:
+  /// Work done on the worker thread; returns what to run back on the GUI thread.
+  using Job = std::function<std::function<void()>(pb::Analyzer&, RequestId)>;
+  RequestId submit(Job job);
+  bool isCancelled(RequestId id) const;
+  /// Runs on the GUI thread: emits the request's end unless it was cancelled meanwhile.
+  void finish(RequestId id, const std::function<void()>& emitResult);
+  void reportProgress(RequestId id, const QString& step);
+
+  std::unique_ptr<pb::Analyzer> _analyzer;  ///< used by the worker thread only
+  mutable std::mutex _mutex;                ///< guards _cancelled
+  std::set<RequestId> _cancelled;
+  std::set<RequestId> _pending;  ///< GUI thread only
+  RequestId _nextId = 1;
+  QThreadPool _pool;  ///< declared last: destroyed (and drained) first
+};
+
+}  // namespace pb::ui
+
+Q_DECLARE_METATYPE(pb::SafetyResult)
+Q_DECLARE_METATYPE(pb::ui::SolvePtr)
+Q_DECLARE_METATYPE(pb::ui::EnvelopePtr)
