@@ -46,14 +46,18 @@ AnalysisService::~AnalysisService() {
   _pool.waitForDone();
 }
 
+std::function<void()> AnalysisService::prepareOrFail(pb::Analyzer& analyzer, RequestId id,
+                                                     const pb::PalletConfig& config) {
+  reportProgress(id, tr("Compiling and settling the pallet"));
+  auto prepared = analyzer.prepare(config);
+  if (prepared) return {};
+  QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
+  return [this, id, message] { emit failed(id, message); };
+}
+
 RequestId AnalysisService::analyze(const pb::PalletConfig& config) {
   return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
-    reportProgress(id, tr("Compiling and settling the pallet"));
-    auto prepared = analyzer.prepare(config);
-    if (!prepared) {
-      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
-      return [this, id, message] { emit failed(id, message); };
-    }
+    if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
     reportProgress(id, tr("Searching the safe envelope"));
     auto result = analyzer.analyze(config);
     if (!result) {
@@ -66,12 +70,7 @@ RequestId AnalysisService::analyze(const pb::PalletConfig& config) {
 
 RequestId AnalysisService::envelope(const pb::PalletConfig& config) {
   return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
-    reportProgress(id, tr("Compiling and settling the pallet"));
-    auto prepared = analyzer.prepare(config);
-    if (!prepared) {
-      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
-      return [this, id, message] { emit failed(id, message); };
-    }
+    if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
     reportProgress(id, tr("Searching the safe envelope"));
     auto result = analyzer.envelope(config);
     if (!result) {
@@ -87,12 +86,7 @@ RequestId AnalysisService::solve(const pb::PalletConfig& config, const pb::Conve
                                  double replay_hz) {
   return submit([this, config, profile, replay_hz](pb::Analyzer& analyzer,
                                                    RequestId id) -> std::function<void()> {
-    reportProgress(id, tr("Compiling and settling the pallet"));
-    auto prepared = analyzer.prepare(config);
-    if (!prepared) {
-      QString message = describeFailure(tr("The pallet cannot be simulated"), prepared.diagnostics);
-      return [this, id, message] { emit failed(id, message); };
-    }
+    if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
     reportProgress(id, tr("Simulating the profile"));
     auto result = analyzer.solve(config, profile, replay_hz);
     if (!result) {

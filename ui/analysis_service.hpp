@@ -73,6 +73,10 @@ class AnalysisService : public QObject {
   /// Runs on the GUI thread: emits the request's end unless it was cancelled meanwhile.
   void finish(RequestId id, const std::function<void()>& emitResult);
   void reportProgress(RequestId id, const QString& step);
+  /// Compiles and settles the pallet (cached by the analyzer): empty if it can be simulated,
+  /// otherwise what delivers the failure.
+  std::function<void()> prepareOrFail(pb::Analyzer& analyzer, RequestId id,
+                                      const pb::PalletConfig& config);
 
   std::unique_ptr<pb::Analyzer> _analyzer;  ///< used by the worker thread only
   mutable std::mutex _mutex;                ///< guards _cancelled
