@@ -69,7 +69,9 @@ std::optional<std::string> guarded(F&& fn) {
 /// carries no time: after a divergence MuJoCo has already reset the clock, so callers add theirs.
 std::optional<std::string> instability_reason(const mjModel* model, const mjData* data);
 
-/// The last warning text MuJoCo raised in this thread ("" if none).
+/// The last warning text MuJoCo raised in this thread ("" if none). MuJoCo 2.2.2 formats warnings
+/// in one static buffer, so under concurrent warnings the text may be garbled; decisions use the
+/// per-mjData counters (instability_reason), never this text.
 std::string last_engine_warning();
 
 }  // namespace pb
