@@ -42,7 +42,8 @@ Args::Args(const VerbSpec& spec, const std::vector<std::string>& argv) : spec_(s
         values_[name] = "";
       } else {
         if (!value) {
-          if (i + 1 >= argv.size()) fail(spec, "--" + name + " needs a value " + option->value_name);
+          if (i + 1 >= argv.size())
+            fail(spec, "--" + name + " needs a value " + option->value_name);
           value = argv[++i];
         }
         values_[name] = *value;

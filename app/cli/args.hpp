@@ -12,7 +12,7 @@
 namespace pb::cli {
 
 struct OptionSpec {
-  std::string name;  ///< without dashes: "seed"
+  std::string name;        ///< without dashes: "seed"
   std::string value_name;  ///< empty for a flag; "N" for "--seed N"
   std::string help;
 };
