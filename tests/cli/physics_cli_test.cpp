@@ -84,23 +84,6 @@ class PhysicsCliTest : public QObject {
     }
   }
 
-  void everyVerbHasHelp_data() {
-    QTest::addColumn<QString>("verb");
-    for (const char* v : {"mjcf", "solve", "analyze", "bench"}) {
-      QTest::newRow(v) << QString::fromLatin1(v);
-    }
-  }
-  void everyVerbHasHelp() {
-    QFETCH(QString, verb);
-    Run r = cli({verb, QStringLiteral("--help")});
-    QCOMPARE(r.exit_code, 0);
-    QVERIFY2(r.out.startsWith("usage: palletballet-cli " + verb.toUtf8()), r.out.constData());
-    QVERIFY(r.out.contains("--help"));
-    Run unknown = cli({verb, QStringLiteral("--no-such-flag")});
-    QCOMPARE(unknown.exit_code, 2);
-    QVERIFY2(unknown.err.contains("unknown option --no-such-flag"), unknown.err.constData());
-  }
-
   // ---- mjcf ----
 
   void mjcfOfAScenarioCompiles() {
