@@ -59,6 +59,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   if (!env) return env;
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
+  env->result.fidelity = std::string(to_string(Fidelity::full));
   env->result.sim_runtime_ms = ms_since(start);
   results_.insert_or_assign(p.fingerprint, env->result);
   return env;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/envelope.hpp"
+#include "core/fidelity.hpp"
 #include "core/friction.hpp"
 #include "core/quasi_static.hpp"
 #include "core/replay.hpp"
@@ -23,6 +24,9 @@ struct AnalyzerOptions {
   SimOptions sim;
   LineDescription line;
   SearchConfig search;
+  /// Which model answers (reported in SafetyResult::fidelity); automatic = the cheapest level
+  /// whose agreement with the full model is established for pallets of that kind.
+  Fidelity fidelity = Fidelity::automatic;
 };
 
 /// A compiled, settled pallet: everything a probe needs.

@@ -41,8 +41,8 @@ class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
 
-  AxisSearch(double lo, double hi, double precision, ProbeFn probe)
-      : min_(lo), max_(hi), precision_(precision), probe_(std::move(probe)) {}
+  AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true)
+      : min_(lo), max_(hi), precision_(precision), probe_(std::move(probe)), seeded_(seeded) {}
 
   // nullopt when a probe was unstable.
   std::optional<AxisLimit> run(double seed) {
@@ -64,6 +64,19 @@ class AxisSearch {
       }
       return v->failed;
     };
+    if (!seeded_) {  // the reference's plain bisection over the whole range
+      double lo = min_, hi = max_;
+      while (hi - lo > precision_) {
+        const double mid = 0.5 * (lo + hi);
+        auto r = test(mid);
+        if (!r) return std::nullopt;
+        (*r ? hi : lo) = mid;
+      }
+      // The ends are only tried when the bisection never left them (a floor or ceiling answer).
+      if (!safe && !test(min_)) return std::nullopt;
+      if (!fail && !test(max_)) return std::nullopt;
+      return finish(out, safe, fail, fail_mode);
+    }
     const double first = std::clamp(seed, min_, max_);
     auto r = test(first);
     if (!r) return std::nullopt;
@@ -82,6 +95,12 @@ class AxisSearch {
     while (safe && fail && *fail - *safe > precision_) {
       if (!test(0.5 * (*safe + *fail))) return std::nullopt;
     }
+    return finish(out, safe, fail, fail_mode);
+  }
+
+ private:
+  static AxisLimit finish(AxisLimit out, std::optional<double> safe, std::optional<double> fail,
+                          FailureMode fail_mode) {
     out.at_ceiling = !fail;
     out.at_floor = !safe;
     out.limit = safe.value_or(0.0);
@@ -89,9 +108,9 @@ class AxisSearch {
     return out;
   }
 
- private:
   double min_, max_, precision_;
   ProbeFn probe_;
+  bool seeded_ = true;
 };
 
 // How far up its search range a limit sits, in [0, 1].
@@ -186,20 +205,23 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   const QuasiStaticLimit across = bounds.weakest_across();
   // Quasi-static onset is a lower bound of failure in a probe of finite length: seed just above.
   auto accel = AxisSearch(s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-                          prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }))
+                          prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }),
+                          s.seed_with_closed_form)
                    .run(along.accel_mps2 + s.accel_precision_mps2);
   if (!accel) return fail_unstable();
   env.accel = *accel;
   auto decel =
       AxisSearch(
           s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
-          prober(Axis::decel, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }))
+          prober(Axis::decel, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }),
+          s.seed_with_closed_form)
           .run(along.accel_mps2 + s.decel_precision_mps2);
   if (!decel) return fail_unstable();
   env.decel = *decel;
   auto lateral =
       AxisSearch(s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-                 prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }))
+                 prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
+                 s.seed_with_closed_form)
           .run(across.accel_mps2 / kGravity + s.lateral_precision_g);
   if (!lateral) return fail_unstable();
   env.lateral = *lateral;
@@ -216,7 +238,8 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   }
   auto stop =
       AxisSearch(s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps,
-                 prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }))
+                 prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }),
+                 s.seed_with_closed_form)
           .run(speed_seed);
   if (!stop) return fail_unstable();
   env.speed = *stop;

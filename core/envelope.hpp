@@ -34,6 +34,12 @@ struct SearchConfig {
   /// the belt settles must be followed until it stops.
   double hold_s = 3.0;
   double max_ramp_s = 2.0;  ///< an acceleration probe ramps to speed_max, or for this long at most
+  /// true: start each axis just above its closed-form bound and step out until bracketed; false:
+  /// the reference system's plain bisection over the whole range.
+  bool seed_with_closed_form = true;
+  /// Probes evaluated at once per search round (k-section through core/batch.hpp); 1 = serial
+  /// bisection, 0 = one per free core.
+  int parallel_probes = 1;
 
   bool operator==(const SearchConfig&) const = default;
 };

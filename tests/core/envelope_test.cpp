@@ -236,6 +236,30 @@ class EnvelopeTest : public QObject {
     }
   }
 
+  // The reference system's plain bisection over the whole range (no closed-form seed) finds the
+  // same limits within one precision step, with more probes.
+  void plainBisectionAgreesWithSeededSearch() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto seeded = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto bisected = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(seeded.ok() && bisected.ok());
+    QVERIFY2(std::abs(seeded->accel.limit - bisected->accel.limit) <= 0.1 + 1e-9,
+             describe(bisected->accel));
+    QVERIFY2(std::abs(seeded->decel.limit - bisected->decel.limit) <= 0.1 + 1e-9,
+             describe(bisected->decel));
+    QVERIFY2(std::abs(seeded->lateral.limit - bisected->lateral.limit) <= 0.01 + 1e-9,
+             describe(bisected->lateral));
+    QCOMPARE(bisected->accel.mode, FailureMode::top_item_slide);
+    QCOMPARE(bisected->lateral.mode, FailureMode::top_item_slide);
+    // The e-stop axis is safe everywhere: bisection never fails, so the ceiling is tried.
+    QVERIFY(bisected->speed.at_ceiling);
+    // Bisection of 4.9 m/s^2 to 0.1 takes 6 probes; the seeded search at most 5.
+    QCOMPARE(bisected->accel.probes, 6);
+    QVERIFY(bisected->result.sims_run > seeded->result.sims_run);
+  }
+
   // Carton mu 0.005: it slides 5 cm even at the gentlest start-up (0.1 m/s^2 for 2 s).
   void slipperyCartonIsRejected() {
     auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.005, 0.4});
