@@ -79,10 +79,6 @@ class Simulator {
 
  private:
   Simulator(const Scene& scene, DataPtr data) : scene_(&scene), data_(std::move(data)) {}
-  void load(const RestState& rest, double initial_speed);
-  Pose body_pose(int body) const;
-  void read_items(std::vector<Pose>& out) const;
-  double max_relative_speed(double belt_vx, double belt_vy, double* spin) const;
 
   const Scene* scene_;
   DataPtr data_;

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// One probe's per-step logic as a small state machine, shared by the serial Simulator and by
+// batched runs (Batch step hooks): the belt command from the profile, the divergence and
+// fall-through guards, the instability checks, the failure detector and the early stop once the
+// load co-moves with the belt after the profile's last breakpoint.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/conveyor_profile.hpp"
+#include "core/detectors.hpp"
+#include "core/scene.hpp"
+#include "core/simulate.hpp"
+
+namespace pb {
+
+/// A belt that stops following its command, its error growing step after step, has diverged (an
+/// explicit velocity drive with kv dt / M >= 2 triples its error every step); a detector would
+/// otherwise report the runaway motion as a conveyor failure.
+class BeltWatch {
+ public:
+  std::optional<std::string> check(double error);
+
+ private:
+  double last_ = 0.0;
+  int growth_ = 0;
+};
+
+/// The pose of a body after the last step.
+Pose body_pose(const mjData& data, int body);
+/// The poses of the scene's items after the last step.
+void read_item_poses(const SceneLayout& layout, const mjData& data, std::vector<Pose>& out);
+/// The fastest linear speed of the pallet or an item relative to the belt's velocity (and, in
+/// `spin`, the fastest angular speed).
+double max_relative_speed(const SceneLayout& layout, const mjData& data, double belt_vx,
+                          double belt_vy, double* spin);
+/// Puts `rest` into `data` at t = 0 with the load riding along at `initial_speed` (ctrl, applied
+/// forces and warning counters cleared).
+void load_rest_state(const mjModel& model, const SceneLayout& layout, const RestState& rest,
+                     double initial_speed, mjData& data);
+
+/// One probe run. Construct, load the start state (load_rest_state with initial_speed()), then
+/// per step: before_step(data), mj_step, after_step(model, data) until it returns false. An engine
+/// error raised by mj_step goes to engine_error(). Not thread-safe; one per simulation. The scene
+/// and the rest state must outlive it.
+class ProbeRun {
+ public:
+  ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProfile& profile,
+           const SimOptions& options);
+
+  double initial_speed() const { return v0_; }
+  /// Steps the profile needs at most (the run may stop earlier).
+  int max_steps() const { return n_steps_; }
+  /// True once the outcome is decided (no more steps).
+  bool done() const { return done_; }
+
+  /// Writes the belt command for the step about to run.
+  void before_step(mjData& data);
+  /// Reads the step just taken; false when the run is over (the result is final then).
+  bool after_step(const mjModel& model, const mjData& data);
+  /// The step raised an engine error (or the batch found the state unstable): the run is over,
+  /// unstable with `reason`.
+  void engine_error(const std::string& reason);
+  /// Ends a run that never stepped (or was stopped from outside) with the final stability check.
+  void finish(const mjModel& model, const mjData& data);
+
+  const SimResult& result() const { return r_; }
+  SimResult take_result() { return std::move(r_); }
+
+ private:
+  void unstable(const std::string& reason);
+
+  const Scene* scene_;
+  const RestState* rest_;
+  ConveyorProfile profile_;
+  SimOptions o_;
+  SimResult r_;
+  FailureDetector detector_;
+  BeltWatch belt_watch_;
+  double v0_ = 0.0, dt_ = 0.0, last_breakpoint_ = 0.0;
+  double belt_x0_ = 0.0, belt_y0_ = 0.0, fall_through_z_ = 0.0;
+  double command_x_ = 0.0, command_y_ = 0.0;
+  int n_steps_ = 0, k_ = 0, comove_needed_ = 1, comove_steps_ = 0;
+  bool done_ = false;
+  std::vector<Pose> items_;
+};
+
+}  // namespace pb
