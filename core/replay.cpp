@@ -43,6 +43,32 @@ ReplayFrame sample(const Trace& trace, std::size_t j, double t) {
   return out;
 }
 
+}  // namespace
+
+ReplayFrame frame_at(const Replay& replay, double t) {
+  const auto& frames = replay.frames;
+  if (frames.empty()) return {};
+  if (!(t > frames.front().t)) return frames.front();  // also NaN
+  if (t >= frames.back().t) return frames.back();
+  const auto next = std::upper_bound(frames.begin(), frames.end(), t,
+                                     [](double x, const ReplayFrame& f) { return x < f.t; });
+  const ReplayFrame& a = *(next - 1);
+  const ReplayFrame& b = *next;
+  const double s = (t - a.t) / (b.t - a.t);
+  ReplayFrame out;
+  out.t = t;
+  out.belt_x = a.belt_x + s * (b.belt_x - a.belt_x);
+  out.belt_y = a.belt_y + s * (b.belt_y - a.belt_y);
+  out.pallet = interpolate(a.pallet, b.pallet, s);
+  out.items.reserve(a.items.size());
+  for (std::size_t i = 0; i < a.items.size() && i < b.items.size(); ++i) {
+    out.items.push_back(interpolate(a.items[i], b.items[i], s));
+  }
+  return out;
+}
+
+namespace {
+
 // ---------------------------------------------------------------------------------------------
 // Writing.
 

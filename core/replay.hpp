@@ -51,6 +51,11 @@ struct Replay {
 Replay make_replay(const Trace& trace, const PalletConfig& pallet, const ConveyorProfile& profile,
                    std::string outcome, std::optional<FailureEvent> failure, double hz = 30.0);
 
+/// The replay's state at time `t` (the player's cursor): positions and belt travel interpolated
+/// linearly and orientations by slerp (shortest arc) between the two frames around `t`; clamped to
+/// the first and last frames (returned exactly). No frames gives a default frame.
+ReplayFrame frame_at(const Replay& replay, double t);
+
 /// Writes "schema_version", "pallet", "profile", "outcome", "failure" (null or {"mode", "time_s",
 /// "value", "items"}), "hz" and "frames": [{"t", "belt": [x, y], "pallet": [x, y, z, qw, qx, qy,
 /// qz], "items": [[x, y, z, qw, qx, qy, qz], ...]}]. Positions and belt travel are rounded to

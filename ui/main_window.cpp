@@ -1,27 +1,271 @@
 // SPDX-License-Identifier: MIT
 #include "ui/main_window.hpp"
 
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QFileDialog>
 #include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QSplitter>
 #include <QStatusBar>
+#include <QVBoxLayout>
 
-#include "core/catalog.hpp"
 #include "core/scenario.hpp"
+#include "ui/dial_panel.hpp"
+#include "ui/file_actions.hpp"
+#include "ui/friction_chart.hpp"
+#include "ui/pallet_document.hpp"
+#include "ui/recent_files.hpp"
+#include "ui/replay_panel.hpp"
+#include "ui/replay_player.hpp"
+#include "ui/results_panel.hpp"
+#include "ui/scenario_picker.hpp"
+#include "ui/stack_builder_panel.hpp"
+#include "ui/trace_plots.hpp"
 
 namespace pb::ui {
 
-MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
-  setWindowTitle(QStringLiteral("PalletBallet Console"));
-  // The panels (stack builder, friction chart, dials, results, replay) arrive with the console
-  // issue; until then the window states what the core has loaded.
-  auto* label = new QLabel(this);
-  label->setAlignment(Qt::AlignCenter);
-  label->setText(
-      QStringLiteral("PalletBallet Console\n%1 SKUs in the catalog, %2 curated scenarios")
-          .arg(pb::Catalog::builtin().all().size())
-          .arg(pb::scenario_slugs().size()));
-  setCentralWidget(label);
-  statusBar()->showMessage(QStringLiteral("Ready"));
-  resize(1280, 800);
+namespace {
+
+QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content,
+                  Qt::DockWidgetArea area) {
+  auto* d = new QDockWidget(title, window);
+  d->setObjectName(name);
+  d->setWidget(content);
+  d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable |
+                 QDockWidget::DockWidgetClosable);
+  window->addDockWidget(area, d);
+  return d;
+}
+
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent)
+    : QMainWindow(parent),
+      _document(new PalletDocument(this)),
+      _recent(new RecentFiles(this)),
+      _files(new FileActions(_document, _recent, this, this)),
+      _service(new AnalysisService({}, this)) {
+  setObjectName(QStringLiteral("mainWindow"));
+  setDockNestingEnabled(true);
+
+  // Centre: the replay over the trace plots.
+  _replay = new ReplayPanel(this);
+  _traces = new TracePlots(this);
+  auto* centre = new QSplitter(Qt::Vertical, this);
+  centre->addWidget(_replay);
+  centre->addWidget(_traces);
+  centre->setStretchFactor(0, 3);
+  centre->setStretchFactor(1, 2);
+  setCentralWidget(centre);
+
+  // Left: what is on the pallet.
+  auto* left = new QWidget(this);
+  auto* leftLayout = new QVBoxLayout(left);
+  leftLayout->setContentsMargins(0, 0, 0, 0);
+  _picker = new ScenarioPicker(_document, left);
+  _builder = new StackBuilderPanel(_document, left);
+  leftLayout->addWidget(_picker);
+  leftLayout->addWidget(_builder, 1);
+  QDockWidget* leftDock =
+      dock(this, tr("Pallet"), QStringLiteral("palletDock"), left, Qt::LeftDockWidgetArea);
+
+  // Right: the dials and what the analysis says; the friction chart under them.
+  _dials = new DialPanel(this);
+  _results = new ResultsPanel(this);
+  _friction = new FrictionChart(this);
+  QDockWidget* dialDock =
+      dock(this, tr("Dispatch"), QStringLiteral("dialDock"), _dials, Qt::RightDockWidgetArea);
+  QDockWidget* resultsDock =
+      dock(this, tr("Results"), QStringLiteral("resultsDock"), _results, Qt::RightDockWidgetArea);
+  QDockWidget* frictionDock = dock(this, tr("Friction"), QStringLiteral("frictionDock"), _friction,
+                                   Qt::RightDockWidgetArea);
+  tabifyDockWidget(resultsDock, frictionDock);
+  resultsDock->raise();
+  resizeDocks({leftDock, dialDock}, {380, 420}, Qt::Horizontal);
+
+  _status = new QLabel(tr("Ready"), this);
+  _status->setObjectName(QStringLiteral("statusText"));
+  _cancel = new QPushButton(tr("Cancel"), this);
+  _cancel->setToolTip(tr("Cancel the running analysis"));
+  _cancel->setEnabled(false);
+  statusBar()->addWidget(_status, 1);
+  statusBar()->addPermanentWidget(_cancel);
+  connect(_cancel, &QPushButton::clicked, _service, &AnalysisService::cancelAll);
+
+  // The document drives the title and every panel that shows the pallet.
+  setWindowTitle(_document->windowTitle());
+  connect(_document, &PalletDocument::titleChanged, this, &QWidget::setWindowTitle);
+  connect(_document, &PalletDocument::modifiedChanged, this, &QWidget::setWindowModified);
+  connect(_document, &PalletDocument::changed, _friction, &FrictionChart::setPallet);
+  connect(_document, &PalletDocument::changed, this, [this] {
+    _results->clear();
+    _dials->resetRound();
+  });
+  connect(_picker, &ScenarioPicker::scenarioLoaded, this, [this](const pb::Scenario& s) {
+    _dials->setSpeed(s.suggested_profile.target_speed_mps);
+    _dials->setAccel(s.suggested_profile.accel_mps2);
+  });
+
+  // Dials, replay, traces and results.
+  connect(_dials, &DialPanel::dispatchRequested, this,
+          [this](const pb::ConveyorProfile& profile) { dispatch(profile, true); });
+  connect(_dials, &DialPanel::dialsChanged, _results, &ResultsPanel::setDialledPoint);
+  connect(_replay, &ReplayPanel::timeChanged, _traces, &TracePlots::setCursorTime);
+  connect(_replay->player(), &ReplayPlayer::playingChanged, this, [this](bool playing) {
+    const ReplayPlayer* p = _replay->player();
+    if (!playing && p->time() >= p->endTime() && p->endTime() > p->startTime()) {
+      _dials->replayFinished();
+    }
+  });
+  wireAnalysis();
+  buildMenus();
+  _friction->setPallet(_document->pallet());
+  resize(1600, 1000);
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::wireAnalysis() {
+  connect(_service, &AnalysisService::progress, this,
+          [this](RequestId, const QString& step) { showStatus(step + QStringLiteral("\u2026")); });
+  connect(_service, &AnalysisService::analyzed, this,
+          [this](RequestId id, const pb::SafetyResult& result) {
+            _results->setResult(result);
+            _dials->setEnvelope(result);
+            if (id == _analyzeId) {
+              _analyzeDone = true;
+              maybeFinishDispatch();
+            }
+          });
+  connect(_service, &AnalysisService::solved, this, [this](RequestId id, const SolvePtr& solve) {
+    _replay->setReplay(solve->replay);
+    _traces->setReplay(solve->replay);
+    _results->setReplay(solve->replay);
+    _dials->setOutcome(solve->sim.outcome == pb::Outcome::safe, solve->replay.failure
+                                                                    ? solve->replay.failure->mode
+                                                                    : pb::FailureMode::no_failure);
+    if (id == _solveId) {
+      _solveDone = true;
+      maybeFinishDispatch();
+    }
+  });
+  connect(_service, &AnalysisService::failed, this, [this](RequestId id, const QString& message) {
+    _results->showError(message);
+    showStatus(message);
+    if (id == _solveId || id == _analyzeId) {
+      if (id == _solveId) _solveDone = true;
+      if (id == _analyzeId) _analyzeDone = true;
+      _dispatchOk = false;
+      _dispatchMessage = message;
+      maybeFinishDispatch();
+    }
+  });
+  connect(_service, &AnalysisService::cancelled, this, [this](RequestId id) {
+    if (id == _solveId || id == _analyzeId) {
+      if (id == _solveId) _solveDone = true;
+      if (id == _analyzeId) _analyzeDone = true;
+      _dispatchOk = false;
+      _dispatchMessage = tr("Cancelled");
+      maybeFinishDispatch();
+    }
+  });
+}
+
+bool MainWindow::loadScenario(const QString& slug) {
+  return _picker->loadSlug(slug);
+}
+
+void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze) {
+  _service->cancelAll();
+  _dispatchOk = true;
+  _dispatchMessage.clear();
+  _solveDone = false;
+  _solveId = _service->solve(_document->pallet(), profile);
+  _analyzeDone = !analyze;
+  _analyzeId = analyze ? _service->analyze(_document->pallet()) : 0;
+  _cancel->setEnabled(true);
+}
+
+void MainWindow::maybeFinishDispatch() {
+  if (!_solveDone || !_analyzeDone) return;
+  _cancel->setEnabled(_service->pendingCount() > 0);
+  if (_dispatchOk) {
+    showStatus(tr("Replay ready"));
+    if (_replay->hasReplay()) _replay->player()->play();
+  }
+  const RequestId solved = _solveId;
+  _solveId = _analyzeId = 0;
+  if (solved != 0) emit dispatchFinished(_dispatchOk, _dispatchMessage);
+}
+
+void MainWindow::buildMenus() {
+  QMenu* file = _files->fileMenu();
+  menuBar()->addMenu(file);
+  file->addSeparator();
+  file->addAction(tr("Open &Replay\u2026"), this, &MainWindow::openReplay);
+  file->addAction(tr("&Export Replay\u2026"), this, &MainWindow::exportReplay);
+  file->addAction(tr("Export &Frame as PNG\u2026"), this, &MainWindow::exportFrame);
+  file->addSeparator();
+  QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
+  quit->setShortcut(QKeySequence::Quit);
+  menuBar()->addMenu(_files->editMenu());
+  QMenu* replay = menuBar()->addMenu(tr("&Replay"));
+  replay->addAction(_replay->playAction());
+  replay->addAction(_replay->stepBackAction());
+  replay->addAction(_replay->stepForwardAction());
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  for (QDockWidget* d : findChildren<QDockWidget*>()) view->addAction(d->toggleViewAction());
+}
+
+void MainWindow::openReplay() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open Replay"), QString(),
+                                                    tr("Replay JSON (*.json);;All files (*)"));
+  if (path.isEmpty()) return;
+  const QString error = _replay->openReplayFile(path);
+  if (!error.isEmpty()) {
+    QMessageBox::warning(this, tr("Open Replay"), error);
+    return;
+  }
+  _traces->setReplay(_replay->replay());
+  _results->setReplay(_replay->replay());
+  showStatus(tr("Replay %1 opened (inspecting, not re-simulated)").arg(path));
+}
+
+void MainWindow::exportReplay() {
+  const QString path = QFileDialog::getSaveFileName(
+      this, tr("Export Replay"), QStringLiteral("replay.json"), tr("Replay JSON (*.json)"));
+  if (path.isEmpty()) return;
+  const QString error = _replay->exportReplay(path);
+  if (!error.isEmpty()) QMessageBox::warning(this, tr("Export Replay"), error);
+}
+
+void MainWindow::exportFrame() {
+  const QString path = QFileDialog::getSaveFileName(this, tr("Export Frame"),
+                                                    QStringLiteral("frame.png"), tr("PNG (*.png)"));
+  if (path.isEmpty()) return;
+  const QString error = _replay->exportFramePng(path);
+  if (!error.isEmpty()) QMessageBox::warning(this, tr("Export Frame"), error);
+}
+
+void MainWindow::showStatus(const QString& text) {
+  _status->setText(text);
+  _status->setToolTip(text);
+}
+
+QString MainWindow::statusText() const {
+  return _status->text();
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  if (!_files->maybeSave()) {
+    event->ignore();
+    return;
+  }
+  _service->cancelAll();
+  event->accept();
 }
 
 }  // namespace pb::ui

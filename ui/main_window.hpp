@@ -1,16 +1,91 @@
 // SPDX-License-Identifier: MIT
-// The console's main window. It only wires panels together; each panel is its own widget.
+// The console's main window. It only wires panels together; each panel is its own widget:
+// scenario picker and stack builder (left), dials and results with the failure map (right), the
+// replay with its controls over the trace plots (centre), the friction chart (bottom right).
 #pragma once
 
 #include <QMainWindow>
+#include <optional>
+
+#include "ui/analysis_service.hpp"
+
+class QLabel;
+class QPushButton;
 
 namespace pb::ui {
+
+class DialPanel;
+class FileActions;
+class FrictionChart;
+class PalletDocument;
+class RecentFiles;
+class ReplayPanel;
+class ResultsPanel;
+class ScenarioPicker;
+class StackBuilderPanel;
+class TracePlots;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
 
  public:
   explicit MainWindow(QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  /// Loads a curated scenario into the document and its suggested profile into the dials.
+  bool loadScenario(const QString& slug);
+  /// Runs `profile` on the document's pallet (the replay starts when it arrives) and, with
+  /// `analyze`, the SafetyResult meanwhile (as the Dispatch button does). Ends with
+  /// dispatchFinished().
+  void dispatch(const pb::ConveyorProfile& profile, bool analyze = true);
+
+  PalletDocument* document() const { return _document; }
+  AnalysisService* service() const { return _service; }
+  ReplayPanel* replayPanel() const { return _replay; }
+  DialPanel* dialPanel() const { return _dials; }
+  ResultsPanel* resultsPanel() const { return _results; }
+  TracePlots* tracePlots() const { return _traces; }
+  FrictionChart* frictionChart() const { return _friction; }
+  StackBuilderPanel* stackBuilder() const { return _builder; }
+  FileActions* fileActions() const { return _files; }
+  /// The status line's text (progress, errors).
+  QString statusText() const;
+
+ signals:
+  /// The dispatched profile's replay is shown (ok) or the run failed (`message` says why). With
+  /// analysis, emitted once both the replay and the SafetyResult (or its failure) are in.
+  void dispatchFinished(bool ok, const QString& message);
+
+ protected:
+  void closeEvent(QCloseEvent* event) override;
+
+ private:
+  void buildMenus();
+  void wireAnalysis();
+  void openReplay();
+  void exportReplay();
+  void exportFrame();
+  void showStatus(const QString& text);
+  void maybeFinishDispatch();
+
+  PalletDocument* _document;
+  RecentFiles* _recent;
+  FileActions* _files;
+  AnalysisService* _service;
+  ScenarioPicker* _picker;
+  StackBuilderPanel* _builder;
+  DialPanel* _dials;
+  ResultsPanel* _results;
+  ReplayPanel* _replay;
+  TracePlots* _traces;
+  FrictionChart* _friction;
+  QLabel* _status;
+  QPushButton* _cancel;
+
+  // The dispatch in flight: its solve and (optional) analysis requests.
+  RequestId _solveId = 0, _analyzeId = 0;
+  bool _solveDone = true, _analyzeDone = true, _dispatchOk = true;
+  QString _dispatchMessage;
 };
 
 }  // namespace pb::ui

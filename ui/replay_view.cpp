@@ -190,25 +190,7 @@ void ReplayView::setTime(double t) {
 }
 
 pb::ReplayFrame ReplayView::frameAt(const pb::Replay& replay, double t) {
-  const auto& frames = replay.frames;
-  if (frames.empty()) return {};
-  if (!(t > frames.front().t)) return frames.front();
-  if (t >= frames.back().t) return frames.back();
-  const auto next = std::upper_bound(frames.begin(), frames.end(), t,
-                                     [](double x, const pb::ReplayFrame& f) { return x < f.t; });
-  const pb::ReplayFrame& a = *(next - 1);
-  const pb::ReplayFrame& b = *next;
-  const double s = (t - a.t) / (b.t - a.t);
-  pb::ReplayFrame out;
-  out.t = t;
-  out.belt_x = a.belt_x + s * (b.belt_x - a.belt_x);
-  out.belt_y = a.belt_y + s * (b.belt_y - a.belt_y);
-  out.pallet = pb::interpolate(a.pallet, b.pallet, s);
-  out.items.reserve(a.items.size());
-  for (std::size_t i = 0; i < a.items.size() && i < b.items.size(); ++i) {
-    out.items.push_back(pb::interpolate(a.items[i], b.items[i], s));
-  }
-  return out;
+  return pb::frame_at(replay, t);
 }
 
 void ReplayView::setPreset(CameraPreset preset) {
@@ -327,6 +309,8 @@ QString ReplayView::noContextMessage() {
 }
 
 QString ReplayView::probeOpenGl() {
+  // Test hook (and a way out on a machine whose driver misbehaves): behave as if there were none.
+  if (qEnvironmentVariableIntValue("PB_NO_OPENGL") != 0) return noContextMessage();
   QOpenGLContext context;
   if (!context.create()) return noContextMessage();
   QOffscreenSurface surface;

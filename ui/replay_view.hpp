@@ -65,6 +65,7 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   QString glProblem() const { return _glProblem; }
   /// Tries to create an OpenGL context off screen: empty if one can be had, else the sentence to
   /// show instead of a ReplayView (a QOpenGLWidget whose context fails cannot paint at all).
+  /// PB_NO_OPENGL=1 in the environment makes it fail (tests, or a driver that misbehaves).
   static QString probeOpenGl();
 
   /// Where `world` lands in a widget of `size` (logical pixels, origin top-left) seen by `camera`.
@@ -78,7 +79,7 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   static QColor highlightColor() { return QColor(255, 32, 32); }
   static QColor backgroundColor() { return QColor(232, 236, 241); }
 
-  /// The frame at time `t` of `replay` (clamped), poses interpolated with pb::interpolate.
+  /// The frame at time `t` of `replay` (clamped): pb::frame_at.
   static pb::ReplayFrame frameAt(const pb::Replay& replay, double t);
 
  protected:

@@ -142,6 +142,30 @@ class ReplayTest : public QObject {
     QCOMPARE(replay.frames[3].t, 0.104);
   }
 
+  // The player's cursor between 30 Hz frames: lerp positions, slerp orientations, clamped ends.
+  void frameAtInterpolatesBetweenFrames() {
+    const Replay replay = sample_replay();
+    const ReplayFrame& a = replay.frames[3];
+    const ReplayFrame& b = replay.frames[4];
+    const double t = a.t + 0.25 * (b.t - a.t);
+    const ReplayFrame f = frame_at(replay, t);
+    QCOMPARE(f.t, t);
+    QVERIFY(near(f.belt_x, a.belt_x + 0.25 * (b.belt_x - a.belt_x)));
+    QVERIFY(near(f.items[2].pos[2],
+                 a.items[2].pos[2] + 0.25 * (b.items[2].pos[2] - a.items[2].pos[2])));
+    // Constant-rate yaw of 30 deg/s: slerp lands on the closed-form orientation at t (a linear
+    // blend of the quaternions would not be unit length).
+    for (std::size_t c = 0; c < 4; ++c) {
+      QVERIFY(near(f.pallet.quat[c], yaw(30.0 * t)[c], 1e-9));
+      QVERIFY(near(f.items[1].quat[c], yaw(30.0 * t)[c], 1e-9));
+    }
+    QVERIFY(frame_at(replay, a.t) == a);
+    QVERIFY(frame_at(replay, -1.0) == replay.frames.front());
+    QVERIFY(frame_at(replay, 99.0) == replay.frames.back());
+    QVERIFY(frame_at(replay, std::nan("")) == replay.frames.front());
+    QVERIFY(frame_at(Replay{}, 0.3) == ReplayFrame{});
+  }
+
   void jsonLayout() {
     const Json json = sample_json();
     QCOMPARE(json["schema_version"], Json(1));
