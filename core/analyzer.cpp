@@ -65,6 +65,13 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   return env;
 }
 
+Result<FailureMap> Analyzer::failure_map(const PalletConfig& config, const MapOptions& options) {
+  auto prepared = prepare(config);
+  if (!prepared) return Result<FailureMap>::failure(std::move(prepared.diagnostics));
+  const PreparedPallet& p = **prepared.value;
+  return run_failure_map(*p.scene, p.rest, options, options_.line, options_.search, options_.sim);
+}
+
 Result<SafetyResult> Analyzer::analyze(const PalletConfig& config) {
   const auto start = std::chrono::steady_clock::now();
   const std::string key = config_fingerprint(config);

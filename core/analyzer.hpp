@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/envelope.hpp"
+#include "core/failure_map.hpp"
 #include "core/fidelity.hpp"
 #include "core/friction.hpp"
 #include "core/quasi_static.hpp"
@@ -59,6 +60,9 @@ class Analyzer {
   Result<SafetyResult> analyze(const PalletConfig& config);
   /// The envelope with its probes (not cached).
   Result<Envelope> envelope(const PalletConfig& config);
+  /// The speed x start-up-acceleration failure map in one batched call (failure_map.hpp; not
+  /// cached), with the analyzer's line, search and simulation options.
+  Result<FailureMap> failure_map(const PalletConfig& config, const MapOptions& options = {});
 
   /// Runs one profile from rest with a full trace and a replay at `replay_hz`.
   Result<Solve> solve(const PalletConfig& config, const ConveyorProfile& profile,

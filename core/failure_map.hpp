@@ -46,6 +46,8 @@ struct FailureMap {
   std::vector<double> speeds_mps;   ///< columns (x), ascending
   std::vector<double> accels_mps2;  ///< rows (y), ascending
   std::vector<MapCell> cells;       ///< cells[accel_index * speeds.size() + speed_index]
+  /// Per speed column: the line's curve and e-stop at that speed (decided_by curve or estop).
+  std::vector<MapCell> line_cells;
   const MapCell& at(int speed_index, int accel_index) const;
   MapCell& at(int speed_index, int accel_index);
 
