@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: MIT
+#include "ui/dial_panel.hpp"
+
+#include <QDoubleSpinBox>
+#include <QGridLayout>
+#include <QLabel>
+#include <QPainter>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace pb::ui {
+
+namespace {
+
+// QDial (not wrapping) maps its range onto 300 degrees: the minimum at 240 degrees (counter-
+// clockwise from 3 o'clock), the maximum at -60 degrees, clockwise (QStyle's calcRadialPos).
+constexpr double kStartDeg = 240.0;
+constexpr double kSweepDeg = 300.0;
+constexpr double kArcWidth = 7.0;
+
+double angleDeg(double fraction) {
+  return kStartDeg - kSweepDeg * std::clamp(fraction, 0.0, 1.0);
+}
+
+QRectF arcRect(const QWidget* w) {
+  const double side = std::min(w->width(), w->height()) - kArcWidth;
+  return {(w->width() - side) / 2.0, (w->height() - side) / 2.0, side, side};
+}
+
+QString fmt(double v, int decimals) {
+  return QString::number(v, 'f', decimals);
+}
+
+}  // namespace
+
+EnvelopeDial::EnvelopeDial(double max_value, int steps_per_unit, QWidget* parent)
+    : QDial(parent), _max(max_value), _steps(steps_per_unit) {
+  setRange(0, static_cast<int>(std::lround(max_value * steps_per_unit)));
+  setNotchesVisible(true);
+  setNotchTarget(10.0);
+  setWrapping(false);
+  setMinimumSize(120, 120);
+}
+
+double EnvelopeDial::physicalValue() const {
+  return static_cast<double>(value()) / _steps;
+}
+
+void EnvelopeDial::setPhysicalValue(double v) {
+  setValue(static_cast<int>(std::lround(std::clamp(v, 0.0, _max) * _steps)));
+}
+
+void EnvelopeDial::setLimit(std::optional<double> limit) {
+  _limit = limit;
+  update();
+}
+
+QColor EnvelopeDial::zoneColor(DialZone zone) {
+  switch (zone) {
+    case DialZone::safe:
+      return {46, 160, 67};
+    case DialZone::marginal:
+      return {240, 170, 0};
+    case DialZone::failing:
+      return {210, 40, 40};
+  }
+  return Qt::gray;
+}
+
+QPointF EnvelopeDial::arcPoint(double v) const {
+  const QRectF r = arcRect(this);
+  const double a = angleDeg(v / _max) * std::numbers::pi / 180.0;
+  return {r.center().x() + r.width() / 2.0 * std::cos(a),
+          r.center().y() - r.height() / 2.0 * std::sin(a)};
+}
+
+void EnvelopeDial::paintEvent(QPaintEvent* event) {
+  QDial::paintEvent(event);
+  if (!_limit) return;
+  QPainter p(this);
+  p.setRenderHint(QPainter::Antialiasing);
+  const QRectF r = arcRect(this);
+  const double limit = *_limit;
+  // Zone boundaries as fractions of the dial's range.
+  const double marginal_from = std::clamp(kDialedInFraction * limit / _max, 0.0, 1.0);
+  const double failing_from = std::clamp(limit / _max, 0.0, 1.0);
+  auto arc = [&](double f0, double f1, DialZone zone) {
+    if (f1 <= f0) return;
+    p.setPen(QPen(zoneColor(zone), kArcWidth, Qt::SolidLine, Qt::FlatCap));
+    const double a0 = angleDeg(f0);
+    const double span = angleDeg(f1) - a0;  // negative: clockwise
+    p.drawArc(r, static_cast<int>(std::lround(a0 * 16)), static_cast<int>(std::lround(span * 16)));
+  };
+  arc(0.0, marginal_from, DialZone::safe);
+  arc(marginal_from, failing_from, DialZone::marginal);
+  arc(failing_from, 1.0, DialZone::failing);
+}
+
+DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
+  _speedDial = new EnvelopeDial(3.0, 100, this);  // 0-3 m/s in 0.01 m/s
+  _accelDial = new EnvelopeDial(6.0, 100, this);  // 0-6 m/s^2 in 0.01 m/s^2
+  _speedDial->setAccessibleName(tr("Belt speed dial"));
+  _accelDial->setAccessibleName(tr("Start-up acceleration dial"));
+
+  auto spin = [this](double max, const QString& suffix, const QString& name) {
+    auto* s = new QDoubleSpinBox(this);
+    s->setRange(0.01, max);
+    s->setDecimals(2);
+    s->setSingleStep(0.05);
+    s->setSuffix(suffix);
+    s->setAccessibleName(name);
+    s->setKeyboardTracking(false);
+    return s;
+  };
+  _speedSpin = spin(3.0, QStringLiteral(" m/s"), tr("Belt speed"));
+  _accelSpin = spin(6.0, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
+
+  _dispatch = new QPushButton(tr("Dispatch"), this);
+  _dispatch->setToolTip(
+      tr("Run this start-up once; the solver's envelope is revealed after the "
+         "replay ends"));
+  _status = new QLabel(this);
+  _status->setWordWrap(true);
+  _limits = new QLabel(this);
+  _limits->setWordWrap(true);
+
+  auto* grid = new QGridLayout;
+  grid->addWidget(new QLabel(tr("Speed"), this), 0, 0, Qt::AlignHCenter);
+  grid->addWidget(new QLabel(tr("Start-up acceleration"), this), 0, 1, Qt::AlignHCenter);
+  grid->addWidget(_speedDial, 1, 0);
+  grid->addWidget(_accelDial, 1, 1);
+  grid->addWidget(_speedSpin, 2, 0);
+  grid->addWidget(_accelSpin, 2, 1);
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(grid);
+  layout->addWidget(_dispatch);
+  layout->addWidget(_status);
+  layout->addWidget(_limits);
+  layout->addStretch(1);
+
+  // Dial and spin box stay in sync; the dial's resolution is the spin box's (0.01).
+  connect(_speedDial, &QDial::valueChanged, this,
+          [this] { setSpeed(_speedDial->physicalValue()); });
+  connect(_accelDial, &QDial::valueChanged, this,
+          [this] { setAccel(_accelDial->physicalValue()); });
+  connect(_speedSpin, &QDoubleSpinBox::valueChanged, this, &DialPanel::setSpeed);
+  connect(_accelSpin, &QDoubleSpinBox::valueChanged, this, &DialPanel::setAccel);
+  connect(_dispatch, &QPushButton::clicked, this, &DialPanel::dispatch);
+
+  setSpeed(1.0);  // the fixed-table speed a warehouse runs today
+  setAccel(1.0);
+  refresh();
+}
+
+double DialPanel::speed() const {
+  return _speedSpin->value();
+}
+double DialPanel::accel() const {
+  return _accelSpin->value();
+}
+
+void DialPanel::setSpeed(double v) {
+  v = std::clamp(v, _speedSpin->minimum(), _speedSpin->maximum());
+  const bool changed = std::abs(v - _speed) > 1e-9;
+  _speed = v;
+  {
+    const QSignalBlocker b1(_speedSpin), b2(_speedDial);
+    _speedSpin->setValue(v);
+    _speedDial->setPhysicalValue(v);
+  }
+  if (changed) emit dialsChanged(speed(), accel());
+}
+
+void DialPanel::setAccel(double v) {
+  v = std::clamp(v, _accelSpin->minimum(), _accelSpin->maximum());
+  const bool changed = std::abs(v - _accel) > 1e-9;
+  _accel = v;
+  {
+    const QSignalBlocker b1(_accelSpin), b2(_accelDial);
+    _accelSpin->setValue(v);
+    _accelDial->setPhysicalValue(v);
+  }
+  if (changed) emit dialsChanged(speed(), accel());
+}
+
+ConveyorProfile DialPanel::profile() const {
+  ConveyorProfile p;
+  p.shape = ProfileShape::accel_hold;
+  p.target_speed_mps = speed();
+  p.accel_mps2 = accel();
+  p.duration_s = std::min(30.0, speed() / accel() + 2.0);
+  return p;
+}
+
+void DialPanel::dispatch() {
+  const ConveyorProfile p = profile();
+  _game.dispatch(p);
+  _announced = false;
+  refresh();
+  emit dispatchRequested(p);
+}
+
+void DialPanel::setEnvelope(const SafetyResult& envelope) {
+  _game.setEnvelope(envelope);
+  refresh();
+}
+
+void DialPanel::setOutcome(bool survived, FailureMode mode) {
+  _game.setOutcome(survived, mode);
+  refresh();
+}
+
+void DialPanel::replayFinished() {
+  _game.replayFinished();
+  refresh();
+}
+
+void DialPanel::resetRound() {
+  _game = DialGame{};
+  _announced = false;
+  refresh();
+}
+
+QString DialPanel::statusText() const {
+  return _status->text();
+}
+
+void DialPanel::refresh() {
+  const auto envelope = _game.envelope();
+  if (!envelope) {
+    _speedDial->setLimit(std::nullopt);
+    _accelDial->setLimit(std::nullopt);
+    _limits->clear();
+    _status->setText(_game.dispatched()
+                         ? tr("Dispatched. The solver's envelope is revealed when the replay ends.")
+                         : tr("Dial a speed and a start-up, then Dispatch."));
+    return;
+  }
+  _speedDial->setLimit(envelope->max_speed_mps);
+  _accelDial->setLimit(envelope->max_accel_mps2);
+  _limits->setText(tr("Solver's limits: %1 m/s, %2 m/s² start-up")
+                       .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2)));
+  const DialScore score = *_game.score();
+  _status->setText(tr("%1 — grade %2, %3 points")
+                       .arg(QString::fromStdString(score.headline), QChar::fromLatin1(score.grade))
+                       .arg(score.points));
+  if (!_announced) {
+    _announced = true;
+    emit scoreRevealed(score);
+  }
+}
+
+}  // namespace pb::ui

@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: MIT
+#include "ui/failure_map_view.hpp"
+
+#include <QPaintEvent>
+#include <QPainter>
+#include <algorithm>
+#include <cmath>
+
+namespace pb::ui {
+
+namespace {
+
+constexpr double kLeft = 52.0;    // room for the acceleration labels and title
+constexpr double kBottom = 58.0;  // speed labels, title and the legend
+constexpr double kTop = 8.0;
+constexpr double kRight = 10.0;
+
+/// The fractional index of x among increasing cell values (linear between cell centres,
+/// extrapolated with the end spacing outside them).
+double fractionalIndex(const std::vector<double>& v, double x) {
+  if (v.size() == 1) return 0.0;
+  if (x <= v.front()) return (x - v.front()) / (v[1] - v[0]);
+  for (std::size_t i = 1; i < v.size(); ++i) {
+    if (x <= v[i]) return static_cast<double>(i - 1) + (x - v[i - 1]) / (v[i] - v[i - 1]);
+  }
+  return static_cast<double>(v.size() - 1) + (x - v.back()) / (v.back() - v[v.size() - 2]);
+}
+
+QString modeLabel(FailureMode mode) {
+  switch (mode) {
+    case FailureMode::no_failure:
+      return QObject::tr("safe");
+    case FailureMode::tip_over:
+      return QObject::tr("tips");
+    case FailureMode::top_item_slide:
+      return QObject::tr("item slides");
+    case FailureMode::pallet_slip:
+      return QObject::tr("pallet slips");
+    case FailureMode::load_shift:
+      return QObject::tr("load shifts");
+  }
+  return {};
+}
+
+}  // namespace
+
+FailureMapView::FailureMapView(QWidget* parent) : QWidget(parent) {
+  setAttribute(Qt::WA_OpaquePaintEvent);
+  setAccessibleName(tr("Failure map: speed against start-up acceleration"));
+}
+
+QColor FailureMapView::cellColor(const Cell& cell) {
+  if (cell.outcome == Outcome::unstable) return {150, 150, 150};
+  if (cell.outcome == Outcome::safe) return {46, 160, 67};
+  switch (cell.mode) {
+    case FailureMode::tip_over:
+      return {200, 30, 30};
+    case FailureMode::top_item_slide:
+      return {245, 140, 20};
+    case FailureMode::pallet_slip:
+      return {120, 70, 190};
+    case FailureMode::load_shift:
+      return {190, 50, 150};
+    case FailureMode::no_failure:
+      break;
+  }
+  return {200, 30, 30};  // failed without a mode: still a failure
+}
+
+void FailureMapView::setGrid(const Grid& grid) {
+  const std::size_t n = grid.speeds_mps.size() * grid.accels_mps2.size();
+  if (n == 0 || grid.cells.size() != n) {
+    _grid = {};
+    _message = tr("Failure map unavailable: %1 cells for %2 speeds x %3 accelerations")
+                   .arg(grid.cells.size())
+                   .arg(grid.speeds_mps.size())
+                   .arg(grid.accels_mps2.size());
+  } else {
+    _grid = grid;
+    _message.clear();
+  }
+  update();
+}
+
+void FailureMapView::clear() {
+  _grid = {};
+  _message.clear();
+  update();
+}
+
+void FailureMapView::setDialledPoint(double speed_mps, double accel_mps2) {
+  _dialled = QPointF(speed_mps, accel_mps2);
+  update();
+}
+
+QRectF FailureMapView::plotRect() const {
+  return QRectF(kLeft, kTop, std::max(10.0, width() - kLeft - kRight),
+                std::max(10.0, height() - kTop - kBottom));
+}
+
+QPointF FailureMapView::valuePoint(double speed, double accel) const {
+  if (!hasGrid()) return {};
+  const QRectF r = plotRect();
+  const double w = r.width() / static_cast<double>(_grid.speeds_mps.size());
+  const double h = r.height() / static_cast<double>(_grid.accels_mps2.size());
+  const QPointF c(r.left() + (fractionalIndex(_grid.speeds_mps, speed) + 0.5) * w,
+                  r.bottom() - (fractionalIndex(_grid.accels_mps2, accel) + 0.5) * h);
+  return {std::clamp(c.x(), r.left(), r.right()), std::clamp(c.y(), r.top(), r.bottom())};
+}
+
+QRectF FailureMapView::cellRect(int si, int ai) const {
+  if (!hasGrid() || si < 0 || ai < 0 || si >= static_cast<int>(_grid.speeds_mps.size()) ||
+      ai >= static_cast<int>(_grid.accels_mps2.size())) {
+    return {};
+  }
+  // Cells are uniform in index space so that an uneven grid still reads as a grid; the value
+  // axis is drawn at the cell centres.
+  const QRectF r = plotRect();
+  const double w = r.width() / static_cast<double>(_grid.speeds_mps.size());
+  const double h = r.height() / static_cast<double>(_grid.accels_mps2.size());
+  return {r.left() + si * w, r.bottom() - (ai + 1) * h, w, h};
+}
+
+void FailureMapView::paintEvent(QPaintEvent*) {
+  QPainter p(this);
+  p.fillRect(rect(), palette().color(QPalette::Base));
+  p.setRenderHint(QPainter::Antialiasing, false);
+  const QRectF plot = plotRect();
+  if (!hasGrid()) {
+    p.setPen(palette().color(QPalette::Text));
+    p.drawText(rect().adjusted(8, 8, -8, -8), Qt::AlignCenter | Qt::TextWordWrap,
+               _message.isEmpty() ? tr("No failure map yet") : _message);
+    return;
+  }
+  const int ns = static_cast<int>(_grid.speeds_mps.size());
+  const int na = static_cast<int>(_grid.accels_mps2.size());
+  for (int a = 0; a < na; ++a) {
+    for (int s = 0; s < ns; ++s) {
+      const Cell& c = _grid.cells[static_cast<std::size_t>(a * ns + s)];
+      const QRectF cr = cellRect(s, a);
+      p.fillRect(cr, cellColor(c));
+      if (c.non_monotone) {
+        // A black dot in the top-left corner: this cell disagrees with a neighbour's ordering.
+        const double d = std::max(3.0, std::min(cr.width(), cr.height()) * 0.28);
+        p.fillRect(QRectF(cr.left() + 1.0, cr.top() + 1.0, d, d), Qt::black);
+      }
+    }
+  }
+  // Grid lines and frame.
+  p.setPen(QPen(QColor(255, 255, 255, 160), 1.0));
+  for (int s = 1; s < ns; ++s) {
+    const double x = cellRect(s, 0).left();
+    p.drawLine(QPointF(x, plot.top()), QPointF(x, plot.bottom()));
+  }
+  for (int a = 1; a < na; ++a) {
+    const double y = cellRect(0, a).bottom();
+    p.drawLine(QPointF(plot.left(), y), QPointF(plot.right(), y));
+  }
+  const QColor text = palette().color(QPalette::Text);
+  p.setPen(text);
+  p.drawRect(plot);
+
+  // Axis labels at (a subset of) the cell centres.
+  const QFontMetrics fm(font());
+  const int xStep =
+      std::max(1, static_cast<int>(std::ceil(ns * fm.horizontalAdvance(QStringLiteral("0.00 ")) /
+                                             plot.width())));
+  for (int s = 0; s < ns; s += xStep) {
+    const QRectF cr = cellRect(s, 0);
+    p.drawText(QRectF(cr.center().x() - 30, plot.bottom() + 2, 60, fm.height()), Qt::AlignHCenter,
+               QString::number(_grid.speeds_mps[static_cast<std::size_t>(s)], 'f', 2));
+  }
+  const int yStep = std::max(1, static_cast<int>(std::ceil(na * fm.height() / plot.height())));
+  for (int a = 0; a < na; a += yStep) {
+    const QRectF cr = cellRect(0, a);
+    p.drawText(QRectF(2, cr.center().y() - fm.height() / 2.0, kLeft - 18, fm.height()),
+               Qt::AlignRight | Qt::AlignVCenter,
+               QString::number(_grid.accels_mps2[static_cast<std::size_t>(a)], 'f', 1));
+  }
+  p.drawText(QRectF(plot.left(), plot.bottom() + fm.height() + 2, plot.width(), fm.height()),
+             Qt::AlignHCenter, tr("belt speed (m/s)"));
+  p.save();
+  p.translate(12, plot.center().y());
+  p.rotate(-90);
+  p.drawText(QRectF(-plot.height() / 2, -fm.height() / 2.0, plot.height(), fm.height()),
+             Qt::AlignCenter, tr("start-up (m/s²)"));
+  p.restore();
+
+  // Legend: one swatch per colour present.
+  double x = plot.left();
+  const double y = plot.bottom() + 2 * fm.height() + 6;
+  auto swatch = [&](const QColor& c, const QString& name) {
+    p.fillRect(QRectF(x, y + 2, 10, 10), c);
+    p.setPen(text);
+    p.drawText(QPointF(x + 13, y + fm.ascent()), name);
+    x += 13 + fm.horizontalAdvance(name) + 10;
+  };
+  swatch(cellColor({Outcome::safe, FailureMode::no_failure, false}),
+         modeLabel(FailureMode::no_failure));
+  for (FailureMode m : {FailureMode::tip_over, FailureMode::top_item_slide,
+                        FailureMode::pallet_slip, FailureMode::load_shift}) {
+    const bool present = std::any_of(_grid.cells.begin(), _grid.cells.end(), [&](const Cell& c) {
+      return c.outcome == Outcome::failed && c.mode == m;
+    });
+    if (present) swatch(cellColor({Outcome::failed, m, false}), modeLabel(m));
+  }
+  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
+                  [](const Cell& c) { return c.outcome == Outcome::unstable; })) {
+    swatch(cellColor({Outcome::unstable, FailureMode::no_failure, false}), tr("unstable"));
+  }
+  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
+                  [](const Cell& c) { return c.non_monotone; })) {
+    swatch(Qt::black, tr("non-monotone"));
+  }
+
+  // The dialled point: a ring with a white halo, clamped into the plot.
+  if (_dialled) {
+    const QPointF c = valuePoint(_dialled->x(), _dialled->y());
+    p.setRenderHint(QPainter::Antialiasing, true);
+    p.setBrush(Qt::NoBrush);
+    p.setPen(QPen(Qt::white, 4.0));
+    p.drawEllipse(c, 7.0, 7.0);
+    p.setPen(QPen(Qt::black, 2.0));
+    p.drawEllipse(c, 7.0, 7.0);
+  }
+}
+
+}  // namespace pb::ui

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+#include "ui/results_panel.hpp"
+
+#include <QLabel>
+#include <QVBoxLayout>
+
+#include "core/explain.hpp"
+#include "ui/failure_map_view.hpp"
+
+namespace pb::ui {
+
+namespace {
+
+QString q(const std::string& s) {
+  return QString::fromStdString(s);
+}
+QString num(double v, int decimals) {
+  return QString::number(v, 'f', decimals);
+}
+
+/// A failure mode in a supervisor's words.
+QString modeWords(FailureMode mode) {
+  switch (mode) {
+    case FailureMode::no_failure:
+      return QObject::tr("nothing fails in range");
+    case FailureMode::tip_over:
+      return QObject::tr("the load tips over");
+    case FailureMode::top_item_slide:
+      return QObject::tr("an item slides off");
+    case FailureMode::pallet_slip:
+      return QObject::tr("the pallet slips on the belt");
+    case FailureMode::load_shift:
+      return QObject::tr("the load shifts inside");
+  }
+  return {};
+}
+
+QColor gradeColor(char letter) {
+  switch (letter) {
+    case 'A':
+      return {46, 160, 67};
+    case 'B':
+      return {60, 120, 200};
+    case 'C':
+      return {230, 150, 0};
+    default:
+      return {200, 30, 30};
+  }
+}
+
+}  // namespace
+
+ResultsPanel::ResultsPanel(QWidget* parent) : QWidget(parent) {
+  _grade = new QLabel(this);
+  _grade->setTextFormat(Qt::RichText);
+  _grade->setWordWrap(true);
+  _limits = new QLabel(this);
+  _limits->setTextFormat(Qt::RichText);
+  _limits->setWordWrap(true);
+  _reason = new QLabel(this);
+  _reason->setWordWrap(true);
+  _dispatch = new QLabel(this);
+  _dispatch->setWordWrap(true);
+  _map = new FailureMapView(this);
+  auto* layout = new QVBoxLayout(this);
+  layout->addWidget(_grade);
+  layout->addWidget(_limits);
+  layout->addWidget(_reason);
+  layout->addWidget(_dispatch);
+  layout->addWidget(_map, 1);
+  clear();
+}
+
+QString ResultsPanel::gradeText() const {
+  return _grade->text();
+}
+QString ResultsPanel::limitsText() const {
+  return _limits->text();
+}
+QString ResultsPanel::reasonText() const {
+  return _reason->text();
+}
+QString ResultsPanel::dispatchText() const {
+  return _dispatch->text();
+}
+
+void ResultsPanel::clear() {
+  _grade->setText(tr("<b>No analysis yet</b>"));
+  _limits->clear();
+  _reason->clear();
+  _dispatch->clear();
+  _map->clear();
+}
+
+void ResultsPanel::showError(const QString& message) {
+  _grade->setText(tr("<span style='color:#c81e1e'><b>Could not analyse this pallet</b></span>"));
+  _limits->clear();
+  _reason->setText(message);
+}
+
+void ResultsPanel::setResult(const SafetyResult& r) {
+  const Grade g = grade(r);
+  _grade->setText(QStringLiteral("<span style='font-size:20pt; color:%1'><b>%2</b></span> "
+                                 "<span style='font-size:14pt'><b>%3</b></span><br>%4")
+                      .arg(gradeColor(g.letter).name(), QString(QChar::fromLatin1(g.letter)),
+                           q(g.label).toHtmlEscaped(), q(g.advice).toHtmlEscaped()));
+  if (r.verdict == "reject") {
+    _limits->setText(tr("No safe motion: <b>%1</b> even at the gentlest setting.")
+                         .arg(modeWords(r.dominant_failure_mode)));
+  } else {
+    _limits->setText(
+        tr("Speed up to <b>%1 m/s</b> (set by the %2) · start-up up to <b>%3 m/s²</b> · stops "
+           "up to <b>%4 m/s²</b> · curves up to <b>%5 g</b><br>First to go: <b>%6</b> · margin "
+           "%7 % · %8 simulations")
+            .arg(num(r.max_speed_mps, 2), q(r.speed_governed_by), num(r.max_accel_mps2, 1),
+                 num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
+                 modeWords(r.dominant_failure_mode), num(r.margin_pct, 0))
+            .arg(r.sims_run));
+  }
+  _reason->setText(q(r.reason));
+}
+
+void ResultsPanel::setReplay(const Replay& replay) {
+  if (replay.outcome == "failed" && replay.failure) {
+    _dispatch->setText(
+        tr("Last dispatch: %1")
+            .arg(q(explain_failure(replay.pallet, replay.profile, *replay.failure))));
+  } else if (replay.outcome == "safe") {
+    _dispatch->setText(
+        tr("Last dispatch: survived %1 m/s at %2 m/s² start-up.")
+            .arg(num(replay.profile.target_speed_mps, 2), num(replay.profile.accel_mps2, 2)));
+  } else {
+    _dispatch->setText(tr("Last dispatch: the solver went unstable; no verdict."));
+  }
+}
+
+void ResultsPanel::setDialledPoint(double speed_mps, double accel_mps2) {
+  _map->setDialledPoint(speed_mps, accel_mps2);
+}
+
+}  // namespace pb::ui

@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+#include "ui/trace_plots.hpp"
+
+#include <QChart>
+#include <QChartView>
+#include <QGridLayout>
+#include <QLineSeries>
+#include <QValueAxis>
+#include <algorithm>
+
+namespace pb::ui {
+
+namespace {
+
+struct QuantityInfo {
+  const char* title;
+  const char* unit;
+};
+constexpr QuantityInfo kInfo[TracePlots::kQuantities] = {
+    {"Pallet tilt", "deg"},
+    {"Item displacement on the pallet", "cm"},
+    {"Load shift (item-to-item)", "cm"},
+    {"Pallet slip on the belt", "cm"},
+};
+
+}  // namespace
+
+std::array<TracePlots::Curve, TracePlots::kQuantities> TracePlots::measure(
+    const Replay& replay, const DetectorThresholds& th) {
+  std::array<Curve, kQuantities> out;
+  out[Tilt].threshold = th.tip_deg;
+  out[ItemSlide].threshold = th.item_slide_m * 100.0;
+  out[LoadShift].threshold = th.load_shift_m * 100.0;
+  out[Slip].threshold = th.pallet_slip_m * 100.0;
+  if (replay.frames.empty()) return out;
+  const ReplayFrame& rest = replay.frames.front();
+  for (const ReplayFrame& f : replay.frames) {
+    const double v[kQuantities] = {
+        measure_tilt(f.pallet).value,
+        100.0 * measure_item_slide(rest.pallet, rest.items, f.pallet, f.items).value,
+        100.0 * measure_load_shift(rest.items, f.items).value,
+        100.0 * measure_pallet_slip(rest.pallet, f.pallet, f.belt_x, f.belt_y).value,
+    };
+    for (int q = 0; q < kQuantities; ++q) {
+      out[q].t.push_back(f.t);
+      out[q].value.push_back(v[q]);
+    }
+  }
+  return out;
+}
+
+TracePlots::TracePlots(QWidget* parent) : QWidget(parent) {
+  auto* layout = new QGridLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->setSpacing(2);
+  for (int q = 0; q < kQuantities; ++q) {
+    auto* chart = new QChart;
+    chart->setTitle(tr(kInfo[q].title));
+    chart->legend()->hide();
+    chart->setMargins(QMargins(2, 2, 2, 2));
+    auto* x = new QValueAxis;
+    x->setTitleText(tr("time (s)"));
+    x->setLabelFormat(QStringLiteral("%.1f"));
+    auto* y = new QValueAxis;
+    y->setTitleText(tr(kInfo[q].unit));
+    y->setLabelFormat(QStringLiteral("%.1f"));
+    chart->addAxis(x, Qt::AlignBottom);
+    chart->addAxis(y, Qt::AlignLeft);
+    _series[q] = new QLineSeries;
+    _series[q]->setPen(QPen(QColor(31, 119, 180), 2.0));
+    _thresholds[q] = new QLineSeries;
+    _thresholds[q]->setPen(QPen(QColor(210, 40, 40), 1.5, Qt::DashLine));
+    _cursors[q] = new QLineSeries;
+    _cursors[q]->setPen(QPen(QColor(40, 40, 40), 1.5));
+    for (QLineSeries* s : {_series[q], _thresholds[q], _cursors[q]}) {
+      chart->addSeries(s);
+      s->attachAxis(x);
+      s->attachAxis(y);
+    }
+    _charts[q] = chart;
+    auto* view = new QChartView(chart, this);
+    view->setRenderHint(QPainter::Antialiasing);
+    view->setMinimumSize(220, 150);
+    layout->addWidget(view, q / 2, q % 2);
+  }
+  clear();
+}
+
+void TracePlots::clear() {
+  for (int q = 0; q < kQuantities; ++q) {
+    _series[q]->clear();
+    _thresholds[q]->clear();
+    _cursors[q]->clear();
+    _yMax[q] = 1.0;
+  }
+  _t0 = 0.0;
+  _t1 = 1.0;
+  _cursorT = 0.0;
+}
+
+void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thresholds) {
+  clear();
+  const auto curves = measure(replay, thresholds);
+  if (!replay.frames.empty()) {
+    _t0 = replay.frames.front().t;
+    _t1 = std::max(_t0 + 1e-3, replay.frames.back().t);
+  }
+  for (int q = 0; q < kQuantities; ++q) {
+    const Curve& c = curves[q];
+    QList<QPointF> points;
+    points.reserve(static_cast<qsizetype>(c.t.size()));
+    double peak = 0.0;
+    for (std::size_t i = 0; i < c.t.size(); ++i) {
+      points.append(QPointF(c.t[i], c.value[i]));
+      peak = std::max(peak, c.value[i]);
+    }
+    _series[q]->replace(points);
+    _thresholds[q]->append(_t0, c.threshold);
+    _thresholds[q]->append(_t1, c.threshold);
+    _yMax[q] = std::max(1.25 * c.threshold, 1.05 * peak);
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) axis->setRange(_t0, _t1);
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) axis->setRange(0.0, _yMax[q]);
+  }
+  setCursorTime(_t0);
+}
+
+void TracePlots::setCursorTime(double t_s) {
+  _cursorT = std::clamp(t_s, _t0, _t1);
+  for (int q = 0; q < kQuantities; ++q) {
+    _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
+  }
+}
+
+}  // namespace pb::ui

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// Trace plots (Qt Charts) of one replay, linked to the replay cursor: pallet tilt, the largest item
+// displacement on the pallet, the load shift (largest change of an item-to-item distance) and the
+// pallet's slip on the belt, against time, each with its detector threshold as a dashed red line
+// and a vertical cursor line at the replay time. Measured with core/detectors.hpp on the replay's
+// frames, the first frame being the rest state (as the detectors' baselines).
+//
+// Wiring (MainWindow):
+//   AnalysisService::solved(solve) / a replay file opened -> setReplay(replay)
+//   ReplayControls / timeline time changed               -> setCursorTime(t)
+#pragma once
+
+#include <QWidget>
+#include <array>
+#include <vector>
+
+#include "core/detectors.hpp"
+#include "core/replay.hpp"
+
+class QChart;
+class QLineSeries;
+
+namespace pb::ui {
+
+class TracePlots : public QWidget {
+  Q_OBJECT
+
+ public:
+  enum Quantity { Tilt = 0, ItemSlide = 1, LoadShift = 2, Slip = 3 };
+  static constexpr int kQuantities = 4;
+
+  explicit TracePlots(QWidget* parent = nullptr);
+
+  /// Per-frame values of a quantity, in display units (deg or cm).
+  struct Curve {
+    std::vector<double> t;
+    std::vector<double> value;
+    double threshold = 0.0;  ///< same units
+  };
+  /// The curves of a replay (no widgets; testable alone).
+  static std::array<Curve, kQuantities> measure(const pb::Replay& replay,
+                                                const pb::DetectorThresholds& thresholds);
+
+  QChart* chart(Quantity q) const { return _charts[q]; }
+  QLineSeries* series(Quantity q) const { return _series[q]; }
+  QLineSeries* thresholdLine(Quantity q) const { return _thresholds[q]; }
+  QLineSeries* cursorLine(Quantity q) const { return _cursors[q]; }
+  double cursorTime() const { return _cursorT; }
+
+ public slots:
+  void setReplay(const pb::Replay& replay,
+                 const pb::DetectorThresholds& thresholds = pb::DetectorThresholds{});
+  /// Moves the cursor line of every plot to `t_s` (clamped to the replay's time range).
+  void setCursorTime(double t_s);
+  void clear();
+
+ private:
+  std::array<QChart*, kQuantities> _charts{};
+  std::array<QLineSeries*, kQuantities> _series{};
+  std::array<QLineSeries*, kQuantities> _thresholds{};
+  std::array<QLineSeries*, kQuantities> _cursors{};
+  std::array<double, kQuantities> _yMax{};
+  double _t0 = 0.0, _t1 = 1.0;
+  double _cursorT = 0.0;
+};
+
+}  // namespace pb::ui
