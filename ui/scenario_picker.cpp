@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+#include "ui/scenario_picker.hpp"
+
+#include <QComboBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QVBoxLayout>
+
+#include "ui/pallet_document.hpp"
+
+namespace pb::ui {
+
+ScenarioPicker::ScenarioPicker(PalletDocument* document, QWidget* parent)
+    : QWidget(parent),
+      _document(document),
+      _scenarios(pb::all_scenarios()),
+      _combo(new QComboBox(this)),
+      _description(new QLabel(this)),
+      _load(new QPushButton(tr("Load scenario"), this)) {
+  for (const pb::Scenario& s : _scenarios) {
+    _combo->addItem(QStringLiteral("%1 — %2").arg(QString::fromStdString(s.name),
+                                                  QString::fromStdString(s.tag)),
+                    QString::fromStdString(s.slug));
+    _combo->setItemData(_combo->count() - 1, QString::fromStdString(s.description),
+                        Qt::ToolTipRole);
+  }
+  _description->setWordWrap(true);
+  auto* row = new QHBoxLayout;
+  row->addWidget(_combo, 1);
+  row->addWidget(_load);
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addLayout(row);
+  layout->addWidget(_description);
+  const auto describe = [this](int index) {
+    if (index < 0 || index >= count()) return _description->clear();
+    const pb::Scenario& s = _scenarios[static_cast<std::size_t>(index)];
+    _description->setText(QString::fromStdString(s.description) + tr(" Expected: ") +
+                          QString::fromStdString(s.expected_failure) + QStringLiteral("."));
+  };
+  connect(_combo, &QComboBox::currentIndexChanged, this, describe);
+  connect(_load, &QPushButton::clicked, this, &ScenarioPicker::loadCurrent);
+  describe(_combo->currentIndex());
+}
+
+int ScenarioPicker::currentIndex() const {
+  return _combo->currentIndex();
+}
+
+void ScenarioPicker::setCurrentIndex(int index) {
+  _combo->setCurrentIndex(index);
+}
+
+bool ScenarioPicker::loadSlug(const QString& slug) {
+  const int index = _combo->findData(slug);
+  if (index < 0) return false;
+  _combo->setCurrentIndex(index);
+  loadCurrent();
+  return true;
+}
+
+void ScenarioPicker::loadCurrent() {
+  const int index = _combo->currentIndex();
+  if (index < 0 || index >= count()) return;
+  const pb::Scenario& s = _scenarios[static_cast<std::size_t>(index)];
+  _document->loadScenario(s);
+  emit scenarioLoaded(s);
+}
+
+}  // namespace pb::ui

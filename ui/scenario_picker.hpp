@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// The curated scenarios in a combo box (name, tag; the description as tooltip) with a Load button
+// that loads the chosen scenario's pallet into the document as one undo step.
+//
+// Wiring: ScenarioPicker::scenarioLoaded(const pb::Scenario&) -> the dial panel (its suggested
+// profile) and anything that shows the scenario's expected failure.
+#pragma once
+
+#include <QWidget>
+#include <vector>
+
+#include "core/scenario.hpp"
+
+class QComboBox;
+class QLabel;
+class QPushButton;
+
+namespace pb::ui {
+
+class PalletDocument;
+
+class ScenarioPicker : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit ScenarioPicker(PalletDocument* document, QWidget* parent = nullptr);
+
+  int count() const { return static_cast<int>(_scenarios.size()); }
+  const pb::Scenario& scenario(int index) const { return _scenarios.at(index); }
+  int currentIndex() const;
+  void setCurrentIndex(int index);
+
+ public slots:
+  /// Loads the scenario with this slug (false if unknown).
+  bool loadSlug(const QString& slug);
+  /// Loads the selected scenario.
+  void loadCurrent();
+
+ signals:
+  void scenarioLoaded(const pb::Scenario& scenario);
+
+ private:
+  PalletDocument* _document;
+  std::vector<pb::Scenario> _scenarios;
+  QComboBox* _combo;
+  QLabel* _description;
+  QPushButton* _load;
+};
+
+}  // namespace pb::ui
