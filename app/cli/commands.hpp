@@ -11,6 +11,7 @@
 #include "app/cli/args.hpp"
 #include "core/conveyor_profile.hpp"
 #include "core/diagnostic.hpp"
+#include "core/failure_map.hpp"
 #include "core/json_io.hpp"
 #include "core/pallet_config.hpp"
 
@@ -30,6 +31,11 @@ std::vector<Command> data_commands();
 
 /// mjcf, solve, analyze, bench.
 std::vector<Command> physics_commands();
+
+/// map FILE: the failure map (app/cli/map_command.cpp).
+Command map_command();
+/// The JSON of a failure map (cells per acceleration row, line cells, derived envelope).
+Json failure_map_json(const FailureMap& map);
 
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);
