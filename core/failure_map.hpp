@@ -19,9 +19,12 @@
 // these agree within one grid step plus p.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/batch.hpp"
 #include "core/diagnostic.hpp"
 #include "core/envelope.hpp"
 #include "core/scene.hpp"
@@ -78,6 +81,20 @@ std::vector<double> linear_grid(double lo, double hi, int n);
 Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
                                    const MapOptions& options, const LineDescription& line = {},
                                    const SearchConfig& search = {}, const SimOptions& sim = {});
+
+/// Lets a caller expand per-simulation parameters of a batch before it runs (Batch::expand);
+/// returns why it could not.
+using BatchConfigure = std::function<std::optional<std::string>(Batch& batch)>;
+
+/// Runs one probe (ProbeRun: the serial Simulator's logic) per profile from `rest`, all in one
+/// batched call on `threads` workers (0: every CPU). Result k is profile k's; an engine error or
+/// instability of one simulation makes its result unstable with the reason. Fails only when the
+/// batch itself cannot be made or run.
+Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const RestState& rest,
+                                                  const std::vector<ConveyorProfile>& profiles,
+                                                  const SimOptions& options, int threads = 0,
+                                                  const BatchConfigure& configure = {},
+                                                  int* threads_used = nullptr);
 
 /// Derives the envelope and the non-monotone flags from the cells (run_failure_map calls it; a test
 /// can call it on a constructed map).
