@@ -24,6 +24,7 @@ void print_usage(const std::vector<pb::cli::Command>& commands) {
 int main(int argc, char** argv) {
   std::vector<pb::cli::Command> commands = pb::cli::data_commands();
   for (auto& command : pb::cli::physics_commands()) commands.push_back(std::move(command));
+  for (auto& command : pb::cli::study_commands()) commands.push_back(std::move(command));
   commands.push_back(pb::cli::map_command());
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
       std::string(argv[1]) == "help") {
