@@ -32,6 +32,9 @@ std::vector<Command> data_commands();
 /// mjcf, solve, analyze, bench.
 std::vector<Command> physics_commands();
 
+/// study speed-accuracy | stability | convergence (app/cli/study_command.cpp).
+std::vector<Command> study_commands();
+
 /// map FILE: the failure map (app/cli/map_command.cpp).
 Command map_command();
 /// The JSON of a failure map (cells per acceleration row, line cells, derived envelope).
