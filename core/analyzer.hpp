@@ -16,6 +16,7 @@
 #include "core/replay.hpp"
 #include "core/scene.hpp"
 #include "core/simulate.hpp"
+#include "core/uncertainty.hpp"
 
 namespace pb {
 
@@ -28,6 +29,9 @@ struct AnalyzerOptions {
   /// Which model answers (reported in SafetyResult::fidelity); automatic = the cheapest level
   /// whose agreement with the full model is established for pallets of that kind.
   Fidelity fidelity = Fidelity::automatic;
+  /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
+  /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
+  UncertaintyOptions confidence = {.samples = 0};
 };
 
 /// A compiled, settled pallet: everything a probe needs.
@@ -37,6 +41,7 @@ struct PreparedPallet {
   std::unique_ptr<Simulator> simulator;
   RestState rest;
   QuasiStaticBounds bounds;
+  FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
   double prepare_ms = 0.0;  ///< compile + settle wall time
 };
 

@@ -17,7 +17,12 @@ struct SafetyResult {
   double max_lateral_g = 0.0;   ///< curves, measured
   FailureMode dominant_failure_mode = FailureMode::no_failure;
   double margin_pct = 0.0;  ///< [0, 100]: the tightest limit's place in its search range
-  double confidence = 0.0;  ///< [0, 1]
+  /// [0, 1]: the probability that the pallet survives every reported limit (start-up at
+  /// max_accel, stop at max_decel, curve at max_lateral, the line's e-stop from max_speed) when
+  /// each contact pair's friction varies lognormally (sigma 10 %) and each item's mass by
+  /// N(1, 5 %), estimated from M seeded samples (core/uncertainty.hpp). 0 when not estimated
+  /// (AnalyzerOptions::confidence.samples = 0, the default) or for a rejected pallet.
+  double confidence = 0.0;
   double sim_runtime_ms = 0.0;
   std::string config_hash;
   // Ours.

@@ -124,4 +124,26 @@ Result<UncertaintyResult> failure_probability(const Scene& scene, const RestStat
   return Out{std::move(r), {}};
 }
 
+Result<UncertaintyResult> limits_confidence(const Scene& scene, const Envelope& env,
+                                            const LineDescription& line, const SearchConfig& search,
+                                            const UncertaintyOptions& options,
+                                            const SimOptions& sim) {
+  const SafetyResult& r = env.result;
+  if (r.verdict == "reject") {
+    UncertaintyResult none;
+    none.p_fail = 1.0;
+    none.ci_low = none.ci_high = 1.0;
+    return Result<UncertaintyResult>{none, {}};
+  }
+  std::vector<ConveyorProfile> profiles;
+  if (r.max_accel_mps2 > 0.0) profiles.push_back(accel_probe_profile(r.max_accel_mps2, search));
+  if (r.max_decel_mps2 > 0.0) {
+    profiles.push_back(decel_probe_profile(r.max_decel_mps2, search.speed_max_mps, search));
+  }
+  if (r.max_lateral_g > 0.0)
+    profiles.push_back(lateral_probe_profile(r.max_lateral_g, line, search));
+  if (r.max_speed_mps > 0.0) profiles.push_back(stop_probe_profile(r.max_speed_mps, line, search));
+  return failure_probability(scene, env.rest, profiles, options, sim);
+}
+
 }  // namespace pb

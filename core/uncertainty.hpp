@@ -18,6 +18,7 @@
 
 #include "core/conveyor_profile.hpp"
 #include "core/diagnostic.hpp"
+#include "core/envelope.hpp"
 #include "core/scene.hpp"
 #include "core/simulate.hpp"
 
@@ -56,5 +57,17 @@ Result<UncertaintyResult> failure_probability(const Scene& scene, const RestStat
                                               const std::vector<ConveyorProfile>& profiles,
                                               const UncertaintyOptions& options,
                                               const SimOptions& sim = {});
+
+/// SafetyResult.confidence: the probability, under the spread, that the pallet survives every limit
+/// the envelope reports — the start-up at max_accel, the stop at max_decel from the top of the
+/// speed range, the curve at max_lateral and the line's e-stop from max_speed (each probe as the
+/// bisection ran it; a sample fails if any fails). 1 - p_fail of that operating point. Limits sit
+/// within one search precision of a failure, so a limit that friction or mass can move (slip,
+/// slide) gives a confidence well below 1, one at the top of its range or insensitive to the
+/// spread (tip of a rigid load) near 1. A rejected pallet has no limits to survive: 0.
+Result<UncertaintyResult> limits_confidence(const Scene& scene, const Envelope& envelope,
+                                            const LineDescription& line, const SearchConfig& search,
+                                            const UncertaintyOptions& options,
+                                            const SimOptions& sim = {});
 
 }  // namespace pb

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/analyzer.hpp"
 #include "core/envelope.hpp"
 #include "test_friction.hpp"
 #include "test_pallets.hpp"
@@ -118,6 +119,38 @@ class UncertaintyTest : public QObject {
     QCOMPARE(a->modes, b->modes);
     qInfo("seed 11: %d/24, seed 12: %d/24", a->failures, c->failures);
     QVERIFY(a->failures > 0 && a->failures < 24);
+  }
+
+  // The analyzer's confidence: off by default (0, no extra simulations); with M samples it is
+  // 1 - p_fail of the reported limits and costs 4 M simulations more.
+  void analyzerConfidenceIsOptIn() {
+    const FrictionModel friction = test::constant_friction({1.0, 0.3, 0.4});
+    const PalletConfig config = test::pallet({test::carton(0.0, 0.0, 0.15)});
+    AnalyzerOptions options;
+    options.fidelity = Fidelity::full;
+    Analyzer plain(options, friction);
+    auto base = plain.analyze(config);
+    QVERIFY2(base, base ? "" : to_string(base.diagnostics[0]).c_str());
+    QCOMPARE(base->confidence, 0.0);
+    options.confidence.samples = 8;
+    Analyzer with(options, friction);
+    auto env = with.envelope(config);
+    QVERIFY(env);
+    const SafetyResult& r = env->result;
+    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.max_accel_mps2, base->max_accel_mps2);
+    QCOMPARE(r.sims_run, base->sims_run + 4 * 8);
+    QVERIFY(r.confidence >= 0.0 && r.confidence <= 1.0);
+    // Recompute it: the same seed gives the same samples.
+    auto again = limits_confidence(*with.prepare(config).value.value()->scene, *env, options.line,
+                                   options.search, options.confidence);
+    QVERIFY(again);
+    QCOMPARE(r.confidence, 1.0 - again->p_fail);
+    qInfo(
+        "carton: limits accel %.2f decel %.2f lateral %.2f speed %.2f; confidence %.3f [%d of "
+        "8 samples fail; modes %d]",
+        r.max_accel_mps2, r.max_decel_mps2, r.max_lateral_g, r.max_speed_mps, r.confidence,
+        again->failures, int(again->modes.size()));
   }
 };
 
