@@ -94,6 +94,22 @@ FieldRef find_field(mjModel* m, std::string_view name) {
   return {};
 }
 
+// Calls fn(name, FieldRef) for every mjtNum pointer field of the model.
+template <class F>
+void for_each_real_field(mjModel* m, F&& fn) {
+#undef MJ_M
+#define MJ_M(n) m->n
+#define X(type, field, nr, nc)                                    \
+  {                                                               \
+    const FieldRef ref = field_ref(m->field, m->nr * (nc));       \
+    if (ref.values != nullptr) fn(std::string_view(#field), ref); \
+  }
+  MJMODEL_POINTERS
+#undef X
+#undef MJ_M
+#define MJ_M(n) n
+}
+
 // Runs fn(worker, item) for every item in [0, n) on `workers` workers and blocks until done; the
 // calling thread is worker 0. Item i belongs to the slice of worker i * workers / n, so a
 // simulation stays on one worker (and its cache) across calls; a worker that has drained its
@@ -317,6 +333,7 @@ struct Batch::Impl {
       const mjtNum* first = p.rows.data() + std::ptrdiff_t(sim) * p.size;
       std::copy_n(first, p.size, p.targets[std::size_t(worker)]);
     }
+    if (!stats.empty()) m->stat = stats[std::size_t(sim)];
     mjData* d = data[std::size_t(worker)].get();
     load(sim, d);
     std::string failure;
@@ -375,6 +392,7 @@ struct Batch::Impl {
   std::vector<DataPtr> data;     // one per worker
   std::vector<ModelPtr> models;  // one per worker once a field is expanded
   std::vector<Param> params;
+  std::vector<mjStatistic> stats;   // per simulation once set_const ran (mj_setConst writes it)
   std::vector<std::string> errors;  // per simulation, during a run (each written by one worker)
   std::vector<int> selected;        // of the current call
   mutable std::mutex call;          // serialises calls
@@ -528,6 +546,90 @@ Result<BatchView> Batch::expand(std::string_view field) {
   for (auto& m : b.models) p.targets.push_back(find_field(m.get(), field).values);
   b.params.push_back(std::move(p));
   return view_of(b.params.back());
+}
+
+std::optional<BatchError> Batch::set_const(const Selection& selection) {
+  Impl& b = *impl_;
+  std::lock_guard lock(b.call);
+  std::vector<int> items;
+  if (auto error = b.resolve(selection, items)) return error;
+  if (items.empty()) return std::nullopt;
+  if (auto error = b.copy_models()) return invalid(*error);
+  const mjModel* base = b.model.get();
+  mjModel* m = b.models.front().get();  // worker 0's copy, restored from `base` around each use
+  mjData* d = b.data.front().get();
+  auto restore = [&] { mj_copyModel(m, base); };
+
+  // Work on copies: nothing changes unless every simulation succeeds.
+  std::vector<std::vector<mjtNum>> rows;
+  for (const Impl::Param& p : b.params) rows.push_back(p.rows);
+  std::vector<std::string> added;  // derived fields to expand on success
+  std::vector<mjStatistic> stats =
+      b.stats.empty() ? std::vector<mjStatistic>(std::size_t(b.sims), base->stat) : b.stats;
+  auto names_of = [&](std::size_t k) -> std::string_view {
+    return k < b.params.size() ? std::string_view(b.params[k].name) : added[k - b.params.size()];
+  };
+  for (int round = 0; round < 3; ++round) {
+    std::vector<std::string> differing;
+    std::vector<int> failed;
+    std::string first_error;
+    for (int sim : items) {
+      restore();
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const FieldRef ref = find_field(m, names_of(k));
+        std::copy_n(rows[k].data() + std::ptrdiff_t(sim) * ref.size, ref.size, ref.values);
+      }
+      if (auto error = guarded([&] { mj_setConst(m, d); })) {
+        mj_resetData(m, d);
+        if (failed.empty()) first_error = "simulation " + std::to_string(sim) + ": " + *error;
+        failed.push_back(sim);
+        continue;
+      }
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const FieldRef ref = find_field(m, names_of(k));
+        std::copy_n(ref.values, ref.size, rows[k].data() + std::ptrdiff_t(sim) * ref.size);
+      }
+      stats[std::size_t(sim)] = m->stat;
+      for_each_real_field(m, [&](std::string_view name, const FieldRef& ref) {
+        bool expanded = false;
+        for (std::size_t k = 0; k < rows.size(); ++k) expanded |= names_of(k) == name;
+        if (expanded) return;
+        const mjtNum* model_values = find_field(b.model.get(), name).values;
+        if (std::equal(ref.values, ref.values + ref.size, model_values)) return;
+        if (std::find(differing.begin(), differing.end(), name) == differing.end()) {
+          differing.emplace_back(name);
+        }
+      });
+    }
+    restore();
+    if (!failed.empty()) return BatchError{failed.front(), failed, first_error};
+    if (differing.empty()) break;
+    // Newly derived fields become per simulation, and every simulation gets its own values.
+    for (const std::string& name : differing) {
+      const FieldRef ref = find_field(b.model.get(), name);
+      std::vector<mjtNum> seeded;
+      seeded.reserve(std::size_t(b.sims) * std::size_t(ref.size));
+      for (int i = 0; i < b.sims; ++i)
+        seeded.insert(seeded.end(), ref.values, ref.values + ref.size);
+      rows.push_back(std::move(seeded));
+      added.push_back(name);
+    }
+    items.clear();
+    for (int i = 0; i < b.sims; ++i) items.push_back(i);
+  }
+  // Commit: existing rows in place (their views stay valid), then the new fields.
+  const std::size_t existing = b.params.size();
+  for (std::size_t k = 0; k < existing; ++k) {
+    std::copy(rows[k].begin(), rows[k].end(), b.params[k].rows.begin());
+  }
+  for (std::size_t a = 0; a < added.size(); ++a) {
+    Impl::Param p{
+        added[a], find_field(b.model.get(), added[a]).size, std::move(rows[existing + a]), {}};
+    for (auto& copy : b.models) p.targets.push_back(find_field(copy.get(), p.name).values);
+    b.params.push_back(std::move(p));
+  }
+  b.stats = std::move(stats);
+  return std::nullopt;
 }
 
 }  // namespace pb

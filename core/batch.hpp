@@ -136,10 +136,25 @@ class Batch {
   /// from the model: a pointer field by its mjModel name ("geom_friction", "pair_friction",
   /// "body_mass"; row = the whole array, e.g. 5 * npair values) or an option by "opt.<name>"
   /// ("opt.timestep", "opt.gravity"). Each simulation's row is written into its worker's model
-  /// copy before it steps. Derived constants are not recomputed (no mj_setConst), exactly as
-  /// writing the field into a model copy in a serial loop. Expanding a field again returns the
-  /// same view. Fails on an unknown or non-mjtNum field.
+  /// copy before it steps. Derived constants are not recomputed here, exactly as writing the
+  /// field into a model copy in a serial loop: call set_const() after changing a field they
+  /// depend on. Expanding a field again returns the same view. Fails on an unknown or non-mjtNum
+  /// field.
+  ///
+  /// Derived constants matter for masses: MuJoCo 2.2 takes the inertia of a "simple" body (a free
+  /// body with a diagonal inertia, e.g. every carton) from dof_M0, computed by mj_setConst, while
+  /// gravity and contact loads use body_mass directly. A body whose body_mass (and body_inertia)
+  /// changed without set_const() weighs the new mass but accelerates like the old one.
   Result<BatchView> expand(std::string_view field);
+
+  /// Recomputes the derived constants (mj_setConst: dof_M0, body_subtreemass, the invweights,
+  /// mjStatistic, ...) of the selected simulations from their expanded fields. Every derived
+  /// mjtNum field that comes out different from the model's is expanded (for every simulation:
+  /// the others get theirs computed too) and mjStatistic is kept per simulation, so each
+  /// simulation then steps exactly like a model copy given the same fields and mj_setConst.
+  /// Call it after writing body_mass, body_inertia, dof_armature, geom sizes and the like. An
+  /// engine error names the lowest failing simulation; no constants change then.
+  std::optional<BatchError> set_const(const Selection& selection = {});
 
  private:
   struct Impl;

@@ -39,6 +39,11 @@ std::vector<Command> study_commands();
 Command map_command();
 /// The JSON of a failure map (cells per acceleration row, line cells, derived envelope).
 Json failure_map_json(const FailureMap& map);
+/// batch: the batch study of random pallets (app/cli/batch_command.cpp).
+Command batch_command();
+
+/// `bench batch`: the batch engine's scaling table (app/cli/bench_command.cpp).
+int run_bench_batch(const Args& args);
 
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);

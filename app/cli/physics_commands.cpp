@@ -404,6 +404,18 @@ void print_bench_table(const Json& rows) {
 }
 
 int run_bench(const Args& args) {
+  if (!args.positionals().empty()) {
+    if (args.positionals().front() != "batch") {
+      throw UsageError{"bench: the only sub-benchmark is 'batch', not '" +
+                       args.positionals().front() + "'"};
+    }
+    return run_bench_batch(args);
+  }
+  for (const char* batch_only : {"sims", "threads", "nstep", "steps"}) {
+    if (args.flag(batch_only)) {
+      throw UsageError{std::string("bench: --") + batch_only + " belongs to 'bench batch'"};
+    }
+  }
   const std::int64_t runs = args.integer("runs").value_or(3);
   if (runs < 1 || runs > 1000) throw UsageError{"bench: --runs must be between 1 and 1000"};
   std::vector<Scenario> scenarios;
@@ -491,15 +503,25 @@ std::vector<Command> physics_commands() {
         1000000},
        run_analyze},
       {{"bench",
-        "bench [--runs N] [--json] [--scenario SLUG]",
+        "bench [batch] [--runs N] [--json] [--scenario SLUG] [--sims N] [--threads 1,2,...] "
+        "[--nstep 1,10] [--steps S]",
         "Time every curated scenario (or one): the solve of its suggested profile and its "
         "envelope from cold caches (compile and settle included, and reported apart), each the "
-        "median of N runs. A table by default.",
-        {{"runs", "N", "runs per scenario (default 3)"},
+        "median of N runs. A table by default. 'bench batch' is the batch engine's scaling "
+        "table instead: simulation-steps per second of a serial mj_step loop and of the batch "
+        "at each thread count and nstep, on one curated pallet (default stable-dairy-slab) "
+        "settled once and riding a belt that keeps accelerating; each row also gives CPU "
+        "seconds (a loaded machine shows there) and whether it ended bitwise where the serial "
+        "loop did (exit 1 if not).",
+        {{"runs", "N", "runs per scenario, or per configuration for batch (default 3)"},
          {"json", "", "print a JSON array instead of the table"},
-         {"scenario", "SLUG", "only this curated scenario"}},
+         {"scenario", "SLUG", "only this curated scenario"},
+         {"sims", "N", "batch: simulations (default 64)"},
+         {"threads", "LIST", "batch: thread counts to time (default 1,2)"},
+         {"nstep", "LIST", "batch: steps per call to time (default 1,10)"},
+         {"steps", "S", "batch: steps per simulation, a multiple of every nstep (default 100)"}},
         0,
-        0},
+        1},
        run_bench},
   };
 }
