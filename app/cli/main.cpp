@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   for (auto& command : pb::cli::physics_commands()) commands.push_back(std::move(command));
   for (auto& command : pb::cli::study_commands()) commands.push_back(std::move(command));
   commands.push_back(pb::cli::map_command());
+  commands.push_back(pb::cli::batch_command());
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
       std::string(argv[1]) == "help") {
     print_usage(commands);
