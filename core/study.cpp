@@ -388,10 +388,11 @@ std::vector<StudySummary> summarize_study(const std::vector<StudyConfig>& config
            a.worst_error_steps < b.worst_error_steps;
   };
   for (auto& s : out) {
-    if (s.pallets == 0 || s.errors == s.pallets) continue;
+    // The reference agrees with itself by definition: it anchors the chart, not the front.
+    if (s.is_reference || s.pallets == 0 || s.errors == s.pallets) continue;
     s.pareto = std::none_of(out.begin(), out.end(), [&](const StudySummary& o) {
-      return &o != &s && o.pallets > 0 && o.errors < o.pallets && better_or_equal(o, s) &&
-             strictly_better(o, s);
+      return &o != &s && !o.is_reference && o.pallets > 0 && o.errors < o.pallets &&
+             better_or_equal(o, s) && strictly_better(o, s);
     });
   }
   return out;

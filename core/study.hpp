@@ -125,7 +125,9 @@ struct StudySummary {
   std::string worst_axis;
   int mode_pallets = 0;         ///< pallets with at least one axis whose mode is compared
   double mode_agreement = 1.0;  ///< fraction of those whose compared modes all agree
-  bool pareto = false;          ///< no other configuration is both faster and more accurate
+  /// No other configuration is both faster and more accurate (the reference is left out: it
+  /// agrees with itself by definition).
+  bool pareto = false;
 };
 
 /// Summaries in the order of `configs`, with the Pareto front marked (faster = lower median wall

@@ -76,7 +76,10 @@ std::string render_study_chart(const std::vector<StudyChartPoint>& points, const
   }
   x_axis->setRange(std::pow(10.0, std::floor(std::log10(lo))),
                    std::pow(10.0, std::ceil(std::log10(hi * 1.0001))));
-  y_axis->setRange(std::max(0.0, std::floor(ymin * 10.0) / 10.0 - 0.05), 1.02);
+  y_axis->setRange(std::max(0.0, std::floor(ymin * 10.0) / 10.0 - 0.05), 1.05);
+  y_axis->setTickType(QValueAxis::TicksDynamic);
+  y_axis->setTickAnchor(0.0);
+  y_axis->setTickInterval(ymin < 0.5 ? 0.1 : 0.05);
 
   // The Pareto front as a staircase line through its points, fastest first.
   std::vector<StudyChartPoint> front;
