@@ -90,6 +90,9 @@ Result<UncertaintyResult> failure_probability(const Scene& scene, const RestStat
           (*inertia.value)(sim, 3 * b + k) = m.body_inertia[3 * b + k] * f;
       }
     }
+    // MuJoCo 2.2 takes a free body's inertia from dof_M0 (mj_setConst): without this a heavier
+    // item would weigh more but accelerate as before.
+    if (auto error = batch.set_const()) return error->message;
     return std::nullopt;
   };
   SimOptions so = sim;
