@@ -408,9 +408,11 @@ int run_stability(const Args& args) {
                  cell(std::string(to_string(r.got)) + (r.missing_guard() ? " (!)" : ""), 18, true) +
                  " " + detail);
     }
-    std::cout << "probes at 0.8x and 1.3x of each pallet's closed-form start-up bound, judged by "
-                 "the reference configuration; broken = numerically broken settings, which must "
-                 "come out detected unstable; (!) = a missing guard\n";
+    std::cout
+        << "probes at 0.8x and 1.3x of each pallet's closed-form bound (curves for the carton, "
+           "start-ups for the slender carton), judged by the reference configuration; broken = "
+           "numerically broken settings, which must "
+           "come out detected unstable; (!) = a missing guard\n";
   }
   if (missing > 0) {
     std::cerr << "study stability: " << missing
