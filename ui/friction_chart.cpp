@@ -4,12 +4,15 @@
 #include <QAreaSeries>
 #include <QChart>
 #include <QChartView>
+#include <QLegendMarker>
 #include <QLineSeries>
 #include <QScatterSeries>
 #include <QVBoxLayout>
 #include <QValueAxis>
 #include <algorithm>
 #include <array>
+
+#include "core/explain.hpp"
 
 namespace pb::ui {
 
@@ -29,7 +32,9 @@ QString label(const std::string& key) {
 
 FrictionChart::FrictionChart(QWidget* parent, const FrictionModel& model)
     : QWidget(parent), _model(&model), _chart(new QChart) {
-  _chart->setTitle(tr("Static friction μ against temperature"));
+  _chart->setTitle(
+      tr("Static friction μ against temperature (dashed: with the frost-melt "
+         "penalty; dots: the pallet now)"));
   _chart->legend()->setAlignment(Qt::AlignBottom);
   _chart->setMargins(QMargins(4, 4, 4, 4));
   _axisX = new QValueAxis;
@@ -41,6 +46,7 @@ FrictionChart::FrictionChart(QWidget* parent, const FrictionModel& model)
   _axisY->setRange(0.0, kMuAxisMax);
   _axisY->setTitleText(tr("μ static"));
   _axisY->setLabelFormat(QStringLiteral("%.1f"));
+  _axisY->setTickCount(6);
   _chart->addAxis(_axisX, Qt::AlignBottom);
   _chart->addAxis(_axisY, Qt::AlignLeft);
 
@@ -66,6 +72,7 @@ FrictionChart::FrictionChart(QWidget* parent, const FrictionModel& model)
   _chart->addSeries(_tempLine);
   _tempLine->attachAxis(_axisX);
   _tempLine->attachAxis(_axisY);
+  for (QLegendMarker* m : _chart->legend()->markers(_tempLine)) m->setVisible(false);
 
   _view = new QChartView(_chart, this);
   _view->setRenderHint(QPainter::Antialiasing);
@@ -103,8 +110,10 @@ void FrictionChart::setPallet(const PalletConfig& config) {
     rebuild(cf, config.seconds_since_temp_change);
   }
   moveMarkers(config.body_temp_c, config.seconds_since_temp_change);
-  _chart->setTitle(tr("Static friction μ against temperature (%1 s since the change)")
-                       .arg(config.seconds_since_temp_change, 0, 'f', 0));
+  _chart->setTitle(tr("μ against temperature · dashed: frost-melt, %1 s after the change · "
+                      "dots: now, %2")
+                       .arg(config.seconds_since_temp_change, 0, 'f', 0)
+                       .arg(QString::fromStdString(format_temperature(config.body_temp_c))));
 }
 
 void FrictionChart::rebuild(const ContactFriction& cf, double seconds) {
@@ -150,6 +159,11 @@ void FrictionChart::rebuild(const ContactFriction& cf, double seconds) {
       _chart->addSeries(series);
       series->attachAxis(_axisX);
       series->attachAxis(_axisY);
+    }
+    // The legend names the pairs; the dashed curve and the marker share their pair's colour.
+    for (QAbstractSeries* series :
+         {static_cast<QAbstractSeries*>(ps.effective), static_cast<QAbstractSeries*>(ps.marker)}) {
+      for (QLegendMarker* m : _chart->legend()->markers(series)) m->setVisible(false);
     }
     _pairs.push_back(ps);
   }
