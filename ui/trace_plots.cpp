@@ -118,8 +118,17 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
     _thresholds[q]->append(_t0, c.threshold);
     _thresholds[q]->append(_t1, c.threshold);
     _yMax[q] = std::max(1.25 * c.threshold, 1.05 * peak);
-    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) axis->setRange(_t0, _t1);
-    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) axis->setRange(0.0, _yMax[q]);
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) {
+      auto* x = static_cast<QValueAxis*>(axis);
+      x->setRange(_t0, _t1);
+      x->setLabelFormat(_t1 - _t0 < 2.0 ? QStringLiteral("%.2f") : QStringLiteral("%.1f"));
+    }
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
+      auto* y = static_cast<QValueAxis*>(axis);
+      y->setRange(0.0, _yMax[q]);
+      y->applyNiceNumbers();  // round ticks; the range may grow a little
+      _yMax[q] = y->max();
+    }
   }
   setCursorTime(_t0);
 }

@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: MIT
+// Trace plots: the curves are the detectors' measures over the replay (a synthetic replay with a
+// known tilt and slip, and a real failing run whose last frame crosses the threshold the core's
+// detector fired on), the threshold lines sit at the detector thresholds, the cursor follows.
+#include <QChart>
+#include <QDir>
+#include <QLineSeries>
+#include <QtTest>
+#include <cmath>
+#include <numbers>
+
+#include "core/analyzer.hpp"
+#include "core/scenario.hpp"
+#include "ui/trace_plots.hpp"
+
+using namespace pb;
+using namespace pb::ui;
+
+namespace {
+
+/// Three frames: rest; the pallet tilted 4 deg about Y with the belt 10 cm ahead; tilted 10 deg.
+Replay synthetic() {
+  Replay r;
+  r.pallet.items.push_back(Item{});
+  for (int k = 0; k < 3; ++k) {
+    ReplayFrame f;
+    f.t = k * 0.5;
+    const double deg = k == 0 ? 0.0 : (k == 1 ? 4.0 : 10.0);
+    const double half = deg * std::numbers::pi / 360.0;
+    f.pallet.quat = {std::cos(half), 0.0, std::sin(half), 0.0};
+    f.belt_x = k == 1 ? 0.10 : 0.0;
+    f.items.push_back(Pose{{0.0, 0.0, 0.25}, {1.0, 0.0, 0.0, 0.0}});
+    r.frames.push_back(f);
+  }
+  return r;
+}
+
+}  // namespace
+
+class TestTracePlots : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void measuresAreTheDetectorsOnTheFrames() {
+    const auto curves = TracePlots::measure(synthetic(), DetectorThresholds{});
+    const auto& tilt = curves[TracePlots::Tilt];
+    QCOMPARE(tilt.value.size(), std::size_t{3});
+    QVERIFY(std::abs(tilt.value[0]) < 1e-9);
+    QVERIFY(std::abs(tilt.value[1] - 4.0) < 1e-6);
+    QVERIFY(std::abs(tilt.value[2] - 10.0) < 1e-6);
+    QCOMPARE(tilt.threshold, 8.0);
+    // Slip: the belt ran 10 cm ahead of a pallet that stayed put.
+    QVERIFY(std::abs(curves[TracePlots::Slip].value[1] - 10.0) < 1e-9);
+    QCOMPARE(curves[TracePlots::Slip].threshold, 30.0);
+    QCOMPARE(curves[TracePlots::ItemSlide].threshold, 5.0);
+    QCOMPARE(curves[TracePlots::LoadShift].threshold, 2.0);
+  }
+
+  void seriesThresholdsAndCursor() {
+    TracePlots plots;
+    plots.setReplay(synthetic());
+    for (int q = 0; q < TracePlots::kQuantities; ++q) {
+      const auto quantity = static_cast<TracePlots::Quantity>(q);
+      QCOMPARE(plots.chart(quantity)->series().size(), 3);
+      QCOMPARE(plots.series(quantity)->count(), 3);
+      QCOMPARE(plots.thresholdLine(quantity)->count(), 2);
+    }
+    QCOMPARE(plots.thresholdLine(TracePlots::Tilt)->at(0).y(), 8.0);
+    QCOMPARE(plots.thresholdLine(TracePlots::Tilt)->at(1).x(), 1.0);
+    QCOMPARE(plots.series(TracePlots::Tilt)->at(2).x(), 1.0);
+    // The cursor starts at the beginning, follows, and is clamped to the replay.
+    QCOMPARE(plots.cursorLine(TracePlots::Tilt)->at(0).x(), 0.0);
+    plots.setCursorTime(0.6);
+    for (int q = 0; q < TracePlots::kQuantities; ++q) {
+      const QLineSeries* c = plots.cursorLine(static_cast<TracePlots::Quantity>(q));
+      QCOMPARE(c->count(), 2);
+      QCOMPARE(c->at(0).x(), 0.6);
+      QCOMPARE(c->at(1).x(), 0.6);
+      QVERIFY(c->at(1).y() > c->at(0).y());
+    }
+    plots.setCursorTime(7.0);
+    QCOMPARE(plots.cursorTime(), 1.0);
+    plots.clear();
+    QCOMPARE(plots.series(TracePlots::Tilt)->count(), 0);
+  }
+
+  void aRealFailureCrossesItsThresholdAtTheEnd() {
+    const auto scenario = load_scenario("tall-unwrapped-tower");
+    QVERIFY(scenario.ok());
+    Analyzer analyzer;
+    const auto solve = analyzer.solve(scenario->pallet, scenario->suggested_profile);
+    QVERIFY(solve.ok());
+    const Replay& replay = solve->replay;
+    QCOMPARE(QString::fromStdString(replay.outcome), QStringLiteral("failed"));
+    const FailureEvent& event = *replay.failure;
+    const auto curves = TracePlots::measure(replay, DetectorThresholds{});
+    TracePlots::Quantity q = TracePlots::Tilt;
+    double scale = 1.0;
+    switch (event.mode) {
+      case FailureMode::tip_over:
+        break;
+      case FailureMode::top_item_slide:
+        q = TracePlots::ItemSlide, scale = 100.0;
+        break;
+      case FailureMode::load_shift:
+        q = TracePlots::LoadShift, scale = 100.0;
+        break;
+      case FailureMode::pallet_slip:
+        q = TracePlots::Slip, scale = 100.0;
+        break;
+      case FailureMode::no_failure:
+        QFAIL("a failed replay without a mode");
+    }
+    const auto& c = curves[q];
+    // The last frame is the moment the detector fired: over the threshold, with its value (the
+    // replay rounds positions to 0.01 mm, hence the tolerance).
+    QVERIFY(c.value.back() > c.threshold);
+    QVERIFY2(std::abs(c.value.back() - scale * event.value) < 0.01 * scale * event.value + 0.01,
+             qPrintable(QStringLiteral("%1 vs %2").arg(c.value.back()).arg(scale * event.value)));
+    // ... and below it before (the detector fires at the first crossing).
+    for (std::size_t i = 0; i + 1 < c.value.size(); ++i) QVERIFY(c.value[i] <= c.threshold + 1e-6);
+
+    TracePlots plots;
+    plots.resize(800, 520);
+    plots.setReplay(replay);
+    plots.setCursorTime(event.time_s);
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)));
+    QVERIFY(plots.grab().save(QStringLiteral(PB_TEST_ARTIFACTS_DIR "/panel_trace_plots.png")));
+  }
+};
+
+QTEST_MAIN(TestTracePlots)
+#include "tst_trace_plots.moc"
