@@ -95,6 +95,12 @@ PalletDocument::PalletDocument(QObject* parent) : QObject(parent) {
   });
 }
 
+PalletDocument::~PalletDocument() {
+  // The undo stack outlives the name and path (members die in reverse order) and signals as it
+  // clears itself: nothing of this document may listen to it by then.
+  _undo.disconnect(this);
+}
+
 QString PalletDocument::windowTitle() const {
   return _name + QStringLiteral("[*] — PalletBallet");
 }
@@ -206,17 +212,32 @@ FileOutcome PalletDocument::save() {
 
 FileOutcome PalletDocument::saveAs(const QString& path) {
   QSaveFile file(path);
-  if (!file.open(QIODevice::WriteOnly)) {
+  // Unbuffered: Qt 6.4's buffered flush at commit() takes a short write (a full disk, a file-size
+  // limit) for success and commits a truncated file; here every write is checked.
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Unbuffered)) {
     return {
         false,
         {tr("cannot write '%1': %2; choose another folder or name").arg(path, file.errorString())}};
   }
   const QByteArray bytes = serialize(_pallet);
-  if (file.write(bytes) != bytes.size() || !file.commit()) {
+  qsizetype done = 0;
+  while (done < bytes.size()) {
+    const qint64 n = file.write(bytes.constData() + done, bytes.size() - done);
+    if (n <= 0) break;
+    done += n;
+  }
+  if (done != bytes.size()) {
+    file.cancelWriting();  // commit() then removes the temporary file and keeps the old one
+  }
+  if (done != bytes.size() || !file.commit()) {
     // QSaveFile leaves the old file untouched when the write or the rename fails.
-    return {
-        false,
-        {tr("cannot write '%1': %2; the file on disk is unchanged").arg(path, file.errorString())}};
+    return {false,
+            {tr("cannot write '%1' (%2 of %3 bytes written: %4); the file on disk is "
+                "unchanged")
+                 .arg(path)
+                 .arg(done)
+                 .arg(bytes.size())
+                 .arg(file.errorString())}};
   }
   setFile(QFileInfo(path).absoluteFilePath(), file_name(path));
   _undo.setClean();

@@ -44,6 +44,7 @@ class PalletDocument : public QObject {
   enum class Edit { step, drag };
 
   explicit PalletDocument(QObject* parent = nullptr);
+  ~PalletDocument() override;
 
   const pb::PalletConfig& pallet() const { return _pallet; }
   /// validate() of the current pallet (errors and warnings, validate()'s pointers).

@@ -12,18 +12,13 @@
 
 #include "core/pallet_metrics.hpp"
 #include "ui/pallet_document.hpp"
+#include "ui/replay_view.hpp"
 
 namespace pb::ui {
 
 namespace {
 
 constexpr double kMargin = 12.0;  // pixels around the deck
-
-// A stable colour per SKU (hue from the SKU's hash), so a SKU looks the same everywhere.
-QColor sku_colour(const std::string& sku) {
-  const auto hash = qHash(QString::fromStdString(sku));
-  return QColor::fromHsv(static_cast<int>(hash % 360), 110, 225);
-}
 
 }  // namespace
 
@@ -37,6 +32,14 @@ StackBuilderGrid::StackBuilderGrid(PalletDocument* document, QWidget* parent)
   setPalette(pal);
   connect(_document, &PalletDocument::changed, this, [this] { refresh(); });
   refresh();
+}
+
+QColor StackBuilderGrid::skuColour(const std::string& sku) {
+  return ReplayView::skuColor(sku);
+}
+
+QColor StackBuilderGrid::deckColour(pb::PalletType type) {
+  return type == pb::PalletType::chep ? QColor(0x6d, 0x8f, 0xb3) : QColor(0xc8, 0xa2, 0x6e);
 }
 
 void StackBuilderGrid::setPlacement(const QString& sku, int height) {
@@ -79,7 +82,7 @@ QPointF StackBuilderGrid::origin() const {
 }
 
 // +X (belt travel) to the right, +Y up, as seen from above.
-QPointF StackBuilderGrid::toPixel(pb::Vec2 point) const {
+QPointF StackBuilderGrid::deckPixel(pb::Vec2 point) const {
   const double s = scale();
   return origin() + QPointF(point[0] * s, -point[1] * s);
 }
@@ -91,7 +94,7 @@ pb::Vec2 StackBuilderGrid::deckPoint(QPointF pixel) const {
 }
 
 QPoint StackBuilderGrid::cellCentrePixel(int row, int col) const {
-  return toPixel(cell_centre(_document->pallet(), _grid, row, col)).toPoint();
+  return deckPixel(cell_centre(_document->pallet(), _grid, row, col)).toPoint();
 }
 
 void StackBuilderGrid::paintEvent(QPaintEvent*) {
@@ -99,10 +102,9 @@ void StackBuilderGrid::paintEvent(QPaintEvent*) {
   p.setRenderHint(QPainter::Antialiasing);
   const pb::PalletConfig& pallet = _document->pallet();
   const auto& dims = pallet.base_dims_m;
-  const QRectF deck(toPixel({-dims[0] / 2, dims[1] / 2}), toPixel({dims[0] / 2, -dims[1] / 2}));
+  const QRectF deck(deckPixel({-dims[0] / 2, dims[1] / 2}), deckPixel({dims[0] / 2, -dims[1] / 2}));
   // Deck (wood or plastic) and the cell grid.
-  const bool plastic = pallet.base_pallet_type == pb::PalletType::chep;
-  p.fillRect(deck, plastic ? QColor(0x6d, 0x8f, 0xb3) : QColor(0xc8, 0xa2, 0x6e));
+  p.fillRect(deck, deckColour(pallet.base_pallet_type));
   p.setPen(QPen(QColor(0, 0, 0, 70), 1, Qt::DashLine));
   for (int c = 1; c < _grid.cols; ++c) {
     const double x = deck.left() + deck.width() * c / _grid.cols;
@@ -124,9 +126,9 @@ void StackBuilderGrid::paintEvent(QPaintEvent*) {
   for (int k : order) {
     const auto corners = pb::item_footprint(pallet.items[k]);
     QPolygonF poly;
-    for (const auto& c : corners) poly << toPixel(c);
+    for (const auto& c : corners) poly << deckPixel(c);
     p.setPen(QPen(QColor(0x30, 0x30, 0x30), 1));
-    p.setBrush(sku_colour(pallet.items[k].sku));
+    p.setBrush(skuColour(pallet.items[k].sku));
     p.drawPolygon(poly);
   }
   // Stack heights, selection and stacks named by validation errors.
@@ -136,7 +138,7 @@ void StackBuilderGrid::paintEvent(QPaintEvent*) {
   for (int s = 0; s < static_cast<int>(_stacks.size()); ++s) {
     const pb::Item& top = pallet.items[_stacks[s].items.back()];
     QPolygonF poly;
-    for (const auto& c : pb::item_footprint(top)) poly << toPixel(c);
+    for (const auto& c : pb::item_footprint(top)) poly << deckPixel(c);
     const bool flagged = std::find(_flagged.begin(), _flagged.end(), s) != _flagged.end();
     if (flagged) {
       p.setPen(QPen(QColor(0xd0, 0x10, 0x10), 3));

@@ -35,6 +35,12 @@ class StackBuilderGrid : public QWidget {
   /// Widget pixel at the centre of cell (row, col), and the deck point at a widget pixel.
   QPoint cellCentrePixel(int row, int col) const;
   pb::Vec2 deckPoint(QPointF pixel) const;
+  /// Widget pixel of deck point (x, y): +X (belt travel) to the right, +Y up.
+  QPointF deckPixel(pb::Vec2 point) const;
+
+  /// Fill of an item of this SKU (the replay view's colour) and of the deck.
+  static QColor skuColour(const std::string& sku);
+  static QColor deckColour(pb::PalletType type);
 
   QSize sizeHint() const override { return {480, 340}; }
   QSize minimumSizeHint() const override { return {240, 170}; }
@@ -59,7 +65,6 @@ class StackBuilderGrid : public QWidget {
   /// Pixels per metre and the deck's top-left pixel for the current size.
   double scale() const;
   QPointF origin() const;
-  QPointF toPixel(pb::Vec2 point) const;
 
   PalletDocument* _document;
   std::vector<StackView> _stacks;
