@@ -35,6 +35,14 @@ QString modeWords(FailureMode mode) {
   return {};
 }
 
+/// What set the speed limit, in words ("estop" -> "the line's e-stop").
+QString governorWords(const std::string& by) {
+  if (by == "estop") return QObject::tr("the line's e-stop");
+  if (by == "curve") return QObject::tr("the tightest curve");
+  if (by == "ceiling") return QObject::tr("the top of the search range");
+  return QString::fromStdString(by);
+}
+
 QColor gradeColor(char letter) {
   switch (letter) {
     case 'A':
@@ -109,11 +117,11 @@ void ResultsPanel::setResult(const SafetyResult& r) {
                          .arg(modeWords(r.dominant_failure_mode)));
   } else {
     _limits->setText(
-        tr("Speed up to <b>%1 m/s</b> (set by the %2) · start-up up to <b>%3 m/s²</b> · stops "
+        tr("Speed up to <b>%1 m/s</b> (set by %2) · start-up up to <b>%3 m/s²</b> · stops "
            "up to <b>%4 m/s²</b> · curves up to <b>%5 g</b><br>First to go: <b>%6</b> · margin "
            "%7 % · %8 simulations")
-            .arg(num(r.max_speed_mps, 2), q(r.speed_governed_by), num(r.max_accel_mps2, 1),
-                 num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
+            .arg(num(r.max_speed_mps, 2), governorWords(r.speed_governed_by),
+                 num(r.max_accel_mps2, 1), num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
                  modeWords(r.dominant_failure_mode), num(r.margin_pct, 0))
             .arg(r.sims_run));
   }
