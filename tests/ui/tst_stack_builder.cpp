@@ -375,6 +375,20 @@ class TestStackBuilder : public QObject {
     qInfo("%d stacks, %d empty cells", int(stacks.size()), emptyCells);
     QCOMPARE(panel.summaryText(), pb::ui::summary_line(doc.pallet()));
     QVERIFY(!panel.findingTexts().isEmpty());
+
+    // A third stack too tall for the height cap: the findings name it, the grid outlines it red.
+    QVERIFY(doc.addStack({0.0, 0.0}, kSku, 12));  // between the two stacks, 2.55 m high
+    const auto texts = panel.findingTexts();
+    QVERIFY2(texts.filter(QStringLiteral("Stack 3 (SKU-FM-001, 12 high), carton ")).size() >= 1,
+             qPrintable(texts.join(u'\n')));
+    const QImage invalid = panel.grab().toImage();
+    QVERIFY(invalid.save(QStringLiteral(PB_TEST_ARTIFACTS_DIR "/panel_stack_builder_invalid.png")));
+    const QImage invalidGrid = grid->grab().toImage();
+    const auto all = pb::ui::stacks_of(doc.pallet());
+    const pb::Item& top = doc.pallet().items[all[2].items.back()];
+    // The middle of the stack's front (+X) edge: the red outline.
+    const QPoint edge = grid->deckPixel({top.dims_m[0] / 2.0, 0.0}).toPoint();
+    QCOMPARE(invalidGrid.pixelColor(edge).rgb(), QColor(0xd0, 0x10, 0x10).rgb());
   }
 };
 
