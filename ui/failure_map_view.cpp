@@ -82,6 +82,15 @@ void FailureMapView::setGrid(const Grid& grid) {
   update();
 }
 
+void FailureMapView::setMap(const FailureMap& map) {
+  Grid g;
+  g.speeds_mps = map.speeds_mps;
+  g.accels_mps2 = map.accels_mps2;
+  g.cells.reserve(map.cells.size());
+  for (const MapCell& c : map.cells) g.cells.push_back({c.outcome, c.mode, c.non_monotone});
+  setGrid(g);
+}
+
 void FailureMapView::clear() {
   _grid = {};
   _message.clear();

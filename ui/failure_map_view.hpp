@@ -3,7 +3,7 @@
 // coloured by verdict and failure mode, non-monotone cells marked with a black corner dot, the
 // dialled point marked with a ring, axes labelled, a legend below.
 //
-// Wiring (MainWindow, through ResultsPanel): the failure map of the pallet -> setGrid(...);
+// Wiring (MainWindow, through ResultsPanel): the failure map of the pallet -> setMap(map);
 // DialPanel::dialsChanged -> setDialledPoint(speed, accel).
 #pragma once
 
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/enums.hpp"
+#include "core/failure_map.hpp"
 #include "core/simulate.hpp"
 
 namespace pb::ui {
@@ -53,6 +54,8 @@ class FailureMapView : public QWidget {
  public slots:
   /// Shows a grid; an inconsistent one (cells != speeds x accels) shows a message instead.
   void setGrid(const pb::ui::FailureMapView::Grid& grid);
+  /// Shows the core's failure map (its cells' verdicts, modes and non-monotone flags).
+  void setMap(const pb::FailureMap& map);
   void clear();
   void setDialledPoint(double speed_mps, double accel_mps2);
 

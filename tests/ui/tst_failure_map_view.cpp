@@ -102,6 +102,32 @@ class TestFailureMapView : public QObject {
     QVERIFY(view.rect().contains(far.toPoint()));
   }
 
+  void coreMapIsShownWithItsNonMonotoneCells() {
+    // A 2 x 2 map whose (fast, hard) cell is safe while the (slow, hard) one fails: the core's
+    // summary flags it, and the view paints it in safe green with the black mark.
+    FailureMap map;
+    map.speeds_mps = {1.0, 2.0};
+    map.accels_mps2 = {1.0, 2.0};
+    map.cells.resize(4);
+    map.at(0, 1).outcome = Outcome::failed;
+    map.at(0, 1).mode = FailureMode::pallet_slip;
+    map.line_cells.resize(2);
+    summarise_map(map);
+    QVERIFY(map.at(1, 1).non_monotone);
+    FailureMapView view;
+    view.resize(300, 260);
+    view.setMap(map);
+    QVERIFY(view.hasGrid());
+    QCOMPARE(view.grid().cells.size(), std::size_t{4});
+    QVERIFY(view.grid().cells[3].non_monotone);
+    const QImage image = view.grab().toImage();
+    const QRectF slow = view.cellRect(0, 1), fast = view.cellRect(1, 1);
+    QVERIFY(distance(image.pixelColor(slow.center().toPoint()),
+                     FailureMapView::cellColor(
+                         {Outcome::failed, FailureMode::pallet_slip, false})) < 10);
+    QVERIFY(distance(image.pixelColor((fast.topLeft() + QPointF(3, 3)).toPoint()), Qt::black) < 30);
+  }
+
   void inconsistentGridIsRefused() {
     FailureMapView view;
     FailureMapView::Grid g = grid();
