@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "core/analyzer.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/fingerprint.hpp"
+#include "core/validation.hpp"
 
 namespace pb {
 
@@ -31,7 +33,21 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     return Result<PreparedPallet*>{it->second.get(), {}};
   }
   const auto start = std::chrono::steady_clock::now();
-  auto scene = build_scene(config, options_.scene, *friction_);
+  // The model level: reduced when the wrap holds the items rigidly (or when asked), else full.
+  // The closed-form level needs no scene; a pallet prepared for it is simulated in full.
+  FidelityChoice choice{Fidelity::full, "requested"};
+  if (options_.fidelity != Fidelity::full && options_.fidelity != Fidelity::closed_form) {
+    if (auto friction = friction_->for_pallet(config)) {
+      const SearchConfig& s = options_.search;
+      choice = choose_fidelity(config, *friction.value,
+                               std::max({s.accel_max_mps2, s.decel_max_mps2,
+                                         s.lateral_max_g * kGravity}),
+                               options_.sim.thresholds, options_.fidelity);
+    }
+  }
+  SceneOptions scene_options = options_.scene;
+  scene_options.merge_wrapped = choice.level == Fidelity::reduced;
+  auto scene = build_scene(config, scene_options, *friction_);
   if (!scene) return Result<PreparedPallet*>::failure(std::move(scene.diagnostics));
   auto prepared = std::make_unique<PreparedPallet>();
   prepared->fingerprint = key;
@@ -43,6 +59,10 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   if (!rest) return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
   prepared->rest = std::move(*rest.value);
   prepared->bounds = quasi_static_bounds(config, prepared->scene->friction);
+  if (choice.level == Fidelity::reduced && !prepared->scene->layout.merged) {
+    choice = {Fidelity::full, "nothing to merge"};
+  }
+  prepared->fidelity = std::move(choice);
   prepared->prepare_ms = ms_since(start);
   PreparedPallet* out = prepared.get();
   prepared_.emplace(key, std::move(prepared));
@@ -51,6 +71,19 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
 
 Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   const auto start = std::chrono::steady_clock::now();
+  if (options_.fidelity == Fidelity::closed_form) {  // no simulation: the bounds are the answer
+    Diagnostics diags = validate(config);
+    if (has_errors(diags)) return Result<Envelope>::failure(std::move(diags));
+    auto friction = friction_->for_pallet(config);
+    if (!friction) return Result<Envelope>::failure(std::move(friction.diagnostics));
+    Envelope env = closed_form_envelope(quasi_static_bounds(config, *friction.value),
+                                        options_.line, options_.search, options_.sim.thresholds);
+    env.result.pallet_id = config.pallet_id;
+    env.result.config_hash = config_fingerprint(config);
+    env.result.sim_runtime_ms = ms_since(start);
+    results_.insert_or_assign(env.result.config_hash, env.result);
+    return Result<Envelope>{std::move(env), std::move(diags)};
+  }
   auto prepared = prepare(config);
   if (!prepared) return Result<Envelope>::failure(std::move(prepared.diagnostics));
   PreparedPallet& p = **prepared.value;
@@ -59,7 +92,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   if (!env) return env;
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
-  env->result.fidelity = std::string(to_string(Fidelity::full));
+  env->result.fidelity = std::string(to_string(p.fidelity.level));
   env->result.sim_runtime_ms = ms_since(start);
   if (options_.confidence.samples > 0 && env->result.verdict != "reject") {
     auto c = limits_confidence(*p.scene, *env, options_.line, options_.search, options_.confidence,

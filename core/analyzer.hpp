@@ -41,6 +41,7 @@ struct PreparedPallet {
   std::unique_ptr<Simulator> simulator;
   RestState rest;
   QuasiStaticBounds bounds;
+  FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
   double prepare_ms = 0.0;  ///< compile + settle wall time
 };
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/envelope.hpp"
+#include "core/fidelity.hpp"
 #include "core/text.hpp"
 
 #include <algorithm>
@@ -168,6 +169,11 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
   return p;
 }
 
+namespace {
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s);
+void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
+}  // namespace
+
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& s, const SimOptions& sim_options) {
@@ -243,7 +249,14 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
           .run(speed_seed);
   if (!stop) return fail_unstable();
   env.speed = *stop;
+  summarise(env, line, s);
+  stamp_sims_and_time(env, start);
+  return Result<Envelope>{std::move(env), {}};
+}
 
+namespace {
+
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s) {
   SafetyResult& r = env.result;
   r.line_estop_decel_mps2 = line.estop_decel_mps2;
   r.line_curve_radius_m = line.curve_radius_m;
@@ -314,10 +327,65 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
         << " m curves: " << fixed(r.max_speed_mps, 2) << " m/s (" << r.speed_governed_by << ").";
     r.reason = why.str();
   }
-  r.sims_run = static_cast<int>(env.probes.size());
-  r.sim_runtime_ms =
+}
+
+void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start) {
+  env.result.sims_run = static_cast<int>(env.probes.size());
+  env.result.sim_runtime_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return Result<Envelope>{std::move(env), {}};
+}
+
+// The largest multiple of `step` above `lo` (from lo) not beyond `bound`, as an axis limit.
+AxisLimit closed_form_axis(const QuasiStaticLimit& bound, double scale, double lo, double hi,
+                           double step) {
+  AxisLimit a;
+  const double b = bound.accel_mps2 / scale;
+  a.closed_form = b;
+  if (b >= hi) {
+    a.limit = hi;
+    a.at_ceiling = true;
+    return a;
+  }
+  a.mode = bound.mode;
+  if (b < lo) {
+    a.at_floor = true;
+    return a;
+  }
+  a.limit = lo + std::floor((b - lo) / step + 1e-9) * step;
+  return a;
+}
+
+}  // namespace
+
+Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                              const SearchConfig& s, const DetectorThresholds& thresholds) {
+  const auto start = std::chrono::steady_clock::now();
+  Envelope env;
+  const QuasiStaticLimit along = bounds.weakest_along();
+  const QuasiStaticLimit across = bounds.weakest_across();
+  env.accel =
+      closed_form_axis(along, 1.0, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2);
+  env.decel =
+      closed_form_axis(along, 1.0, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2);
+  env.lateral =
+      closed_form_axis(across, kGravity, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
+  // The e-stop: nothing moves below the onset; above it a slide grows with v^2 (a tip is
+  // assumed at any speed).
+  QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, "", -1};
+  if (line.estop_decel_mps2 > along.accel_mps2) {
+    stop.mode = along.mode;
+    stop.accel_mps2 =
+        along.mode == FailureMode::tip_over
+            ? 0.0
+            : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+                          along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
+                                                                 : thresholds.item_slide_m);
+  }
+  env.speed = closed_form_axis(stop, 1.0, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps);
+  summarise(env, line, s);
+  stamp_sims_and_time(env, start);
+  env.result.fidelity = std::string(to_string(Fidelity::closed_form));
+  return env;
 }
 
 }  // namespace pb

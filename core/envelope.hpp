@@ -89,4 +89,13 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line = {},
                                  const SearchConfig& search = {}, const SimOptions& sim = {});
 
+/// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
+/// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance
+/// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". Below what a
+/// ramp probe measures (it allows a finite slide) but above what a step load (an e-stop, a curve's
+/// onset) allows a tall load that rocks: an estimate, not a bound.
+Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line = {},
+                              const SearchConfig& search = {},
+                              const DetectorThresholds& thresholds = {});
+
 }  // namespace pb

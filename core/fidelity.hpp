@@ -8,8 +8,12 @@
 #pragma once
 
 #include <array>
+#include <string>
 
+#include "core/detectors.hpp"
 #include "core/enums.hpp"
+#include "core/friction.hpp"
+#include "core/pallet_config.hpp"
 
 namespace pb {
 
@@ -22,5 +26,27 @@ struct EnumTable<Fidelity> {
                                                             {Fidelity::reduced, "reduced"},
                                                             {Fidelity::full, "full"}}};
 };
+
+/// The level that answers for one pallet, and why.
+struct FidelityChoice {
+  Fidelity level = Fidelity::full;
+  std::string why;
+};
+
+/// The automatic choice: the reduced model when a wrap holds every item rigidly at the scale of
+/// the detectors, i.e. when the largest wrap deflection an item can see, m a / K with a the most
+/// the load can be accelerated (the lower of `max_accel_mps2` and the pallet's slip onset mu g),
+/// stays below a quarter of the load-shift threshold (the reduced model agrees with the full one
+/// within one search step on the wrapped curated scenarios: core/README.md, fidelity_test);
+/// otherwise the full model (an unwrapped load, or a wrap too soft for its items). The
+/// closed-form level is never chosen automatically: a quasi-static onset is not within one search
+/// step of the probed limit (a ramp probe allows a finite slide: the onset is below it; a step
+/// load such as an e-stop makes a tall load rock past its static tip angle: the onset is above
+/// it, by 0.2 m/s^2 for a five-carton tower in fidelity_test).
+/// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
+/// is the full model: nothing can be merged).
+FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,
+                               double max_accel_mps2, const DetectorThresholds& thresholds,
+                               Fidelity requested = Fidelity::automatic);
 
 }  // namespace pb

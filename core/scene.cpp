@@ -125,13 +125,17 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     std::string a, b;
     const FrictionValue* mu;
   };
+  const WrapStiffness wrap = o.wrap_welds ? wrap_stiffness(config.wrap) : WrapStiffness{};
+  // The reduced model: the wrap holds every item to the pallet; nothing but the pallet touches
+  // the belt.
+  const bool merged = o.merge_wrapped && wrap.stiffness_n_per_m > 0.0 && n > 0;
   std::vector<Pair> pairs{{"belt", "pallet", &friction.belt_pallet}};
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n && !merged; ++i) {
     if (std::abs(boxes[i].z0 - deck) <= kTouch) {
       pairs.push_back({"pallet", "item_" + std::to_string(i), &friction.item_pallet});
     }
   }
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < n && !merged; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
       if (can_touch(boxes[i], boxes[j], o.neighbour_distance_m)) {
         pairs.push_back(
@@ -139,8 +143,7 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
       }
     }
   }
-  const WrapStiffness wrap = o.wrap_welds ? wrap_stiffness(config.wrap) : WrapStiffness{};
-  const int welds = wrap.stiffness_n_per_m > 0.0 ? static_cast<int>(n) : 0;
+  const int welds = wrap.stiffness_n_per_m > 0.0 && !merged ? static_cast<int>(n) : 0;
   // A box-box pair makes at most 8 contacts; a pyramidal condim-3 contact makes 4 rows (elliptic
   // 3); a weld 6. The stack holds the solver's dense and sparse work arrays.
   const int nconmax = o.nconmax > 0 ? o.nconmax : 8 * static_cast<int>(pairs.size());
@@ -152,7 +155,8 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "pallet"
     << "\">\n"
     << "  <!-- PalletBallet scene: " << n << " items, wrap " << to_string(config.wrap) << ", "
-    << pairs.size() << " contact pairs, " << welds << " welds -->\n"
+    << pairs.size() << " contact pairs, " << welds << " welds"
+    << (merged ? ", items merged into the pallet body (reduced model)" : "") << " -->\n"
     << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
     << "  <option timestep=\"" << num(o.timestep_s) << "\" integrator=\""
     << integrator_name(o.integrator) << "\" solver=\"" << solver_name(o.solver) << "\" cone=\""
@@ -182,9 +186,13 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
       << num(m / 3 * (h[1] * h[1] + h[2] * h[2])) << " " << num(m / 3 * (h[0] * h[0] + h[2] * h[2]))
       << " " << num(m / 3 * (h[0] * h[0] + h[1] * h[1])) << "\"/>\n"
       << "      <geom name=\"pallet\" type=\"box\" size=\"" << num(h[0]) << " " << num(h[1]) << " "
-      << num(h[2]) << "\"/>\n"
-      << "    </body>\n";
+      << num(h[2]) << "\"/>\n";
+    if (!merged) x << "    </body>\n";
   }
+  // Merged items are children of the pallet body without a joint: their positions are relative
+  // to the pallet's centre (world z of the pallet centre is the deck's half height).
+  const double child_dz = merged ? -base[2] / 2 : 0.0;
+  const char* indent = merged ? "  " : "";
   for (std::size_t i = 0; i < n; ++i) {
     const Item& item = config.items[i];
     const double m = item.weight_kg;
@@ -200,18 +208,19 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     const bool swapped = std::abs(sy) > std::abs(cy);
     const double hx = d[0] / 2 - (swapped ? sy_world : sx_world);
     const double hy = d[1] / 2 - (swapped ? sx_world : sy_world);
-    x << "    <body name=\"item_" << i << "\" pos=\"" << num(item.position[0]) << " "
-      << num(item.position[1]) << " " << num(item.position[2] + d[2] / 2) << "\" quat=\""
-      << num(std::cos(yaw / 2)) << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n"
-      << "      <freejoint name=\"item_" << i << "_free\"/>\n"
-      << "      <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
+    x << indent << "    <body name=\"item_" << i << "\" pos=\"" << num(item.position[0]) << " "
+      << num(item.position[1]) << " " << num(item.position[2] + d[2] / 2 + child_dz) << "\" quat=\""
+      << num(std::cos(yaw / 2)) << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n";
+    if (!merged) x << "      <freejoint name=\"item_" << i << "_free\"/>\n";
+    x << indent << "      <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
       << num(m / 12 * (d[1] * d[1] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[1] * d[1])) << "\"/>\n"
-      << "      <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " " << num(ly)
-      << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n"
-      << "    </body>\n";
+      << indent << "      <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " "
+      << num(ly) << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n"
+      << indent << "    </body>\n";
   }
+  if (merged) x << "    </body>\n";
   x << "  </worldbody>\n  <actuator>\n";
   const double kv = o.belt_kv_ratio * o.belt_mass_kg / o.timestep_s;
   x << "    <velocity name=\"belt_vx\" joint=\"belt_x\" kv=\"" << num(kv) << "\"/>\n"
@@ -291,9 +300,12 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   l.belt_y_act = mj_name2id(m, mjOBJ_ACTUATOR, "belt_vy");
   l.pallet_qpos = m->jnt_qposadr[pf];
   l.pallet_dof = m->jnt_dofadr[pf];
+  // Belt x, belt y and the pallet are the only joints: the items are merged into the pallet.
+  l.merged = !config.items.empty() && m->njnt == 3;
   for (std::size_t i = 0; i < config.items.size(); ++i) {
     const std::string name = "item_" + std::to_string(i);
     l.item_bodies.push_back(body(name));
+    if (l.merged) continue;
     const int j = joint(name + "_free");
     l.item_qpos.push_back(m->jnt_qposadr[j]);
     l.item_dofs.push_back(m->jnt_dofadr[j]);

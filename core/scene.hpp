@@ -47,6 +47,11 @@ struct SceneOptions {
   /// heights) get a contact pair; farther ones cannot touch before a detector fires.
   double neighbour_distance_m = 0.05;
   bool wrap_welds = true;  ///< false: ignore wrap (for studies)
+  /// The reduced model (Fidelity::reduced): items a wrap holds are merged into the pallet body
+  /// (each stays a body without a joint, fixed where it rests, so MuJoCo composes the exact mass,
+  /// centre of mass and inertia, and every item pose is still computed); the belt/pallet contact
+  /// is the only contact. No effect on an unwrapped pallet or with wrap_welds off.
+  bool merge_wrapped = false;
   /// Buffer sizes; <= 0 means sized from the scene.
   int nconmax = 0;
   int njmax = 0;
@@ -65,8 +70,10 @@ struct SceneLayout {
   int belt_x_act = -1, belt_y_act = -1;
   int pallet_qpos = -1;  ///< free joint: 7 qpos (pos, quat), 6 dofs from pallet_dof
   int pallet_dof = -1;
+  /// The free items' joints (empty when the items are merged into the pallet body).
   std::vector<int> item_qpos;
   std::vector<int> item_dofs;
+  bool merged = false;  ///< the items are merged into the pallet body (the reduced model)
   int contact_pairs = 0;
   int welds = 0;
 };

@@ -4,6 +4,7 @@
 #include <QtTest>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <string>
 #include <utility>
@@ -323,6 +324,87 @@ class SceneTest : public QObject {
     // The belt's top face is the floor of the pallet frame.
     const int bg = geom_id(m.get(), "belt");
     QVERIFY(near(m->body_pos[3 * belt + 2] + m->geom_size[3 * bg + 2], 0.0));
+  }
+
+  // The reduced model: wrapped items become jointless children of the pallet body. Its rigid
+  // body is then exactly the composite: total mass, centre of mass, and the inertia about the
+  // pallet's origin by the parallel-axis theorem (items turned by their yaw), as MuJoCo's joint-
+  // space mass matrix of the pallet's free joint shows.
+  void mergedItemsFormOneRigidBodyWithTheCompositeInertia() {
+    const PalletConfig config =
+        pallet({carton(-0.2, 0.1, 0.15, {0.4, 0.3, 0.25}, 14.0),
+                carton(0.3, -0.1, 0.15, {0.3, 0.5, 0.2}, 6.5, 90.0),
+                carton(-0.2, 0.1, 0.40, {0.4, 0.3, 0.2}, 9.0, 30.0)},
+               WrapType::banded);
+    SceneOptions o;
+    o.merge_wrapped = true;
+    auto scene = build_scene(config, o, friction_model());
+    QVERIFY(scene.ok());
+    const mjModel* m = scene->model.get();
+    QVERIFY(scene->layout.merged);
+    QCOMPARE(m->nv, 8);  // belt x, belt y, the pallet's free joint
+    QCOMPARE(m->npair, 1);
+    QCOMPARE(m->neq, 0);
+    QVERIFY(scene->layout.item_dofs.empty() && scene->layout.item_qpos.empty());
+    QCOMPARE(scene->layout.item_bodies.size(), std::size_t{3});
+    const int p = scene->layout.pallet_body;
+    QVERIFY(near(m->body_subtreemass[p], 25.0 + 14.0 + 6.5 + 9.0, 1e-9));
+
+    // Expected inertia about the pallet's origin (0, 0, 0.075), world axes.
+    double expect[3][3] = {};
+    auto add = [&](double mass, Vec3 c, Vec3 diag, double yaw_deg) {
+      const double yaw = yaw_deg * std::numbers::pi / 180.0;
+      const double cy = std::cos(yaw), sy = std::sin(yaw);
+      const double R[3][3] = {{cy, -sy, 0}, {sy, cy, 0}, {0, 0, 1}};
+      const double r[3] = {c[0], c[1], c[2] - 0.075};
+      const double r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          double rot = 0.0;
+          for (int k = 0; k < 3; ++k) rot += R[a][k] * diag[std::size_t(k)] * R[b][k];
+          expect[a][b] += rot + mass * ((a == b ? r2 : 0.0) - r[a] * r[b]);
+        }
+      }
+    };
+    add(25.0, {0, 0, 0.075}, {25.0 / 12 * (0.64 + 0.0225), 25.0 / 12 * (1.44 + 0.0225),
+                              25.0 / 12 * (1.44 + 0.64)}, 0.0);
+    for (const Item& it : config.items) {
+      const Vec3& d = it.dims_m;
+      const double k = it.weight_kg / 12;
+      add(it.weight_kg, it.center_of_mass(),
+          {k * (d[1] * d[1] + d[2] * d[2]), k * (d[0] * d[0] + d[2] * d[2]),
+           k * (d[0] * d[0] + d[1] * d[1])},
+          it.orientation_deg);
+    }
+    DataPtr d = std::move(*make_data(m).value);
+    mj_forward(m, d.get());
+    std::vector<double> M(std::size_t(m->nv) * std::size_t(m->nv));
+    mj_fullM(m, M.data(), d->qM);
+    const int v = scene->layout.pallet_dof;
+    auto at = [&](int a, int b) { return M[std::size_t((v + a) * m->nv + v + b)]; };
+    for (int a = 0; a < 3; ++a) QVERIFY(near(at(a, a), 54.5, 1e-9));  // translation: total mass
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) {
+        QVERIFY2(near(at(3 + a, 3 + b), expect[a][b], 1e-9),
+                 qPrintable(QString("I[%1][%2] = %3, expected %4")
+                                .arg(a)
+                                .arg(b)
+                                .arg(at(3 + a, 3 + b))
+                                .arg(expect[a][b])));
+      }
+    }
+    // Item poses are still computed: each sits where it rests.
+    for (std::size_t i = 0; i < config.items.size(); ++i) {
+      const int b = scene->layout.item_bodies[i];
+      const Item& it = config.items[i];
+      QVERIFY(near(d->xpos[3 * b + 0], it.position[0], 1e-12));
+      QVERIFY(near(d->xpos[3 * b + 2], it.position[2] + it.dims_m[2] / 2, 1e-12));
+    }
+    // No wrap, nothing merged.
+    auto loose = build_scene(pallet(config.items), o, friction_model());
+    QVERIFY(loose.ok() && !loose->layout.merged);
+    QCOMPARE(loose->model->neq, 0);
+    QCOMPARE(loose->layout.item_dofs.size(), std::size_t{3});
   }
 
   void numericalOptionsReachTheModel() {
