@@ -120,9 +120,9 @@ StackBuilderPanel::StackBuilderPanel(PalletDocument* document, QWidget* parent)
   left->addWidget(_summary);
   left->addWidget(_findings, 1);
 
-  auto* layout = new QHBoxLayout(this);
-  layout->addLayout(left, 3);
-  layout->addLayout(side, 2);
+  _layout = new QBoxLayout(QBoxLayout::LeftToRight, this);
+  _layout->addLayout(left, 3);
+  _layout->addLayout(side, 2);
 
   // Placement follows the catalog and the height spin; the spin resizes a selected stack.
   connect(_catalog, &CatalogList::skuChosen, this,
@@ -206,6 +206,13 @@ void StackBuilderPanel::showSelection(int stack) {
   _updating = true;
   _height->setValue(stacks[static_cast<std::size_t>(stack)].height());
   _updating = false;
+}
+
+void StackBuilderPanel::resizeEvent(QResizeEvent* event) {
+  // Side by side when there is room (a window), one above the other in a narrow dock.
+  _layout->setDirection(width() >= kSideBySideWidth ? QBoxLayout::LeftToRight
+                                                    : QBoxLayout::TopToBottom);
+  QWidget::resizeEvent(event);
 }
 
 QString StackBuilderPanel::summaryText() const {

@@ -14,6 +14,7 @@
 
 #include "core/pallet_config.hpp"
 
+class QBoxLayout;
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -48,15 +49,22 @@ class StackBuilderPanel : public QWidget {
   QString summaryText() const;
   QStringList findingTexts() const;
 
+  /// Narrower than this, the controls go under the deck instead of beside it.
+  static constexpr int kSideBySideWidth = 700;
+
  public slots:
   /// Applies the preset chosen in the panel (pattern, catalog SKU, layers).
   void applyPreset();
+
+ protected:
+  void resizeEvent(QResizeEvent* event) override;
 
  private:
   void showPallet(const pb::PalletConfig& pallet);
   void showSelection(int stack);
 
   PalletDocument* _document;
+  QBoxLayout* _layout = nullptr;
   StackBuilderGrid* _grid;
   CatalogList* _catalog;
   QSpinBox* _height;

@@ -335,6 +335,29 @@ class TestStackBuilder : public QObject {
     QCOMPARE(doc.pallet(), before);
   }
 
+  // In a narrow dock the controls go under the deck; in a window beside it.
+  void narrowPanelStacksVertically() {
+    PalletDocument doc;
+    pb::ui::ScenarioPicker picker(&doc);
+    QVERIFY(picker.loadSlug(QStringLiteral("frozen-meat-sprint")));
+    StackBuilderPanel panel(&doc);
+    panel.resize(380, 980);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    QTest::qWait(20);
+    const QRect grid = panel.grid()->geometry();
+    const QRect catalog(panel.catalog()->mapTo(&panel, QPoint(0, 0)), panel.catalog()->size());
+    QVERIFY2(grid.bottom() < catalog.top(), "the catalog is under the deck");
+    QVERIFY(grid.width() > 300);
+    QVERIFY(panel.grab().toImage().save(
+        QStringLiteral(PB_TEST_ARTIFACTS_DIR "/panel_stack_builder_narrow.png")));
+    panel.resize(1000, 640);
+    QTest::qWait(20);
+    const QRect wideGrid = panel.grid()->geometry();
+    const QRect wideCatalog(panel.catalog()->mapTo(&panel, QPoint(0, 0)), panel.catalog()->size());
+    QVERIFY2(wideGrid.right() < wideCatalog.left(), "the catalog is beside the deck");
+  }
+
   // The panel with a scenario loaded, one stack selected: the artifact, and its pixels.
   void panelScreenshot() {
     PalletDocument doc;
