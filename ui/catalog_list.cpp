@@ -57,6 +57,7 @@ CatalogList::CatalogList(const pb::Catalog& catalog, QWidget* parent)
   _view->setModel(&_proxy);
   _view->setSelectionMode(QAbstractItemView::SingleSelection);
   _view->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  _view->setMinimumHeight(5 * _view->fontMetrics().height() + 8);  // five rows at least
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(_filter);

@@ -9,8 +9,8 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSpinBox>
-#include <QSplitter>
 #include <QVBoxLayout>
 
 #include "core/enums.hpp"
@@ -86,6 +86,7 @@ StackBuilderPanel::StackBuilderPanel(PalletDocument* document, QWidget* parent)
   _presetMessage->setWordWrap(true);
   _presetMessage->setStyleSheet(QStringLiteral("color: #b00000"));
   _findings->setWordWrap(true);
+  _findings->setMinimumHeight(60);
 
   // Left: the deck. Right: what to place, presets, the pallet's properties.
   auto* place = new QGroupBox(tr("Place"), this);
@@ -120,9 +121,20 @@ StackBuilderPanel::StackBuilderPanel(PalletDocument* document, QWidget* parent)
   left->addWidget(_summary);
   left->addWidget(_findings, 1);
 
-  _layout = new QBoxLayout(QBoxLayout::LeftToRight, this);
+  // Everything scrolls when the panel is smaller than its controls need (a small window).
+  auto* content = new QWidget;
+  _layout = new QBoxLayout(QBoxLayout::LeftToRight, content);
+  _layout->setContentsMargins(0, 0, 0, 0);
   _layout->addLayout(left, 3);
   _layout->addLayout(side, 2);
+  auto* scroll = new QScrollArea(this);
+  scroll->setFrameShape(QFrame::NoFrame);
+  scroll->setWidgetResizable(true);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  scroll->setWidget(content);
+  auto* outer = new QVBoxLayout(this);
+  outer->setContentsMargins(4, 4, 4, 4);
+  outer->addWidget(scroll);
 
   // Placement follows the catalog and the height spin; the spin resizes a selected stack.
   connect(_catalog, &CatalogList::skuChosen, this,
@@ -210,8 +222,12 @@ void StackBuilderPanel::showSelection(int stack) {
 
 void StackBuilderPanel::resizeEvent(QResizeEvent* event) {
   // Side by side when there is room (a window), one above the other in a narrow dock.
-  _layout->setDirection(width() >= kSideBySideWidth ? QBoxLayout::LeftToRight
-                                                    : QBoxLayout::TopToBottom);
+  const bool wide = width() >= kSideBySideWidth;
+  _layout->setDirection(wide ? QBoxLayout::LeftToRight : QBoxLayout::TopToBottom);
+  // Under the deck the controls keep their size and the deck gives way (down to its minimum).
+  _layout->setStretch(0, wide ? 3 : 1);
+  _layout->setStretch(1, wide ? 2 : 0);
+  _findings->setMaximumHeight(wide ? QWIDGETSIZE_MAX : 110);
   QWidget::resizeEvent(event);
 }
 
