@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+// `palletballet-cli bench batch`: the scaling table's rows and its bad input. Tiny sizes: this
+// checks the verb, never a timing.
+#include <QJsonArray>
+#include <QJsonObject>
+#include <QtTest>
+
+#include "cli_runner.hpp"
+
+using pb::test::cli;
+using pb::test::Run;
+
+class BenchCliTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void batchJson() {
+    Run r = cli({"bench", "batch", "--sims", "4", "--steps", "10", "--runs", "1", "--threads",
+                 "1,2", "--nstep", "1,5", "--json"});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 5);  // serial, then threads x nstep
+    const QJsonObject serial = rows[0].toObject();
+    QCOMPARE(serial.value("mode").toString(), QString("serial"));
+    QCOMPARE(serial.value("speedup_vs_serial").toDouble(), 1.0);
+    const int expected[4][2] = {{1, 1}, {1, 5}, {2, 1}, {2, 5}};
+    for (int k = 0; k < 4; ++k) {
+      const QJsonObject o = rows[k + 1].toObject();
+      QCOMPARE(o.value("mode").toString(), QString("batch"));
+      QCOMPARE(o.value("threads").toInt(), expected[k][0]);
+      QCOMPARE(o.value("nstep").toInt(), expected[k][1]);
+    }
+    for (const auto& row : rows) {
+      const QJsonObject o = row.toObject();
+      QVERIFY(o.value("steps_per_s").toDouble() > 0.0);
+      QVERIFY(o.value("steps_per_cpu_s").toDouble() > 0.0);
+      QCOMPARE(o.value("sims").toInt(), 4);
+      QCOMPARE(o.value("scenario").toString(), QString("stable-dairy-slab"));
+      QVERIFY(o.value("same_result_as_serial").toBool());  // bitwise where the serial loop ended
+    }
+  }
+
+  void batchTable() {
+    Run r = cli({"bench", "batch", "--sims", "2", "--steps", "4", "--runs", "1", "--threads", "2",
+                 "--nstep", "2", "--scenario", "top-heavy-surprise"});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QList<QByteArray> lines = r.out.trimmed().split('\n');
+    QCOMPARE(lines.size(), 4);  // title, header, serial, one batch row
+    QVERIFY(lines[0].startsWith("scenario top-heavy-surprise, 2 simulations x 4 steps"));
+    QVERIFY(lines[1].startsWith("mode "));
+    QVERIFY(lines[2].startsWith("serial "));
+    QVERIFY(lines[3].startsWith("batch "));
+    QVERIFY(lines[3].endsWith("yes"));
+  }
+
+  void batchBadInput() {
+    Run nstep = cli({"bench", "batch", "--steps", "10", "--nstep", "3"});
+    QCOMPARE(nstep.exit_code, 2);
+    QVERIFY(nstep.err.contains("--steps (10) must be a multiple of every --nstep"));
+    Run threads = cli({"bench", "batch", "--threads", "0"});
+    QCOMPARE(threads.exit_code, 2);
+    QVERIFY(threads.err.contains("--threads takes whole numbers from 1 to 256"));
+    Run sims = cli({"bench", "batch", "--sims", "0"});
+    QCOMPARE(sims.exit_code, 2);
+    QVERIFY(sims.err.contains("--sims must be between 1 and 100000"));
+    Run scenario = cli({"bench", "batch", "--scenario", "nope"});
+    QCOMPARE(scenario.exit_code, 2);
+    QVERIFY(scenario.err.contains("no curated scenario 'nope'"));
+    Run word = cli({"bench", "sideways"});
+    QCOMPARE(word.exit_code, 2);
+    QVERIFY(word.err.contains("the only sub-benchmark is 'batch'"));
+    Run stray = cli({"bench", "--sims", "4"});
+    QCOMPARE(stray.exit_code, 2);
+    QVERIFY(stray.err.contains("--sims belongs to 'bench batch'"));
+  }
+};
+
+QTEST_GUILESS_MAIN(BenchCliTest)
+#include "bench_cli_test.moc"
