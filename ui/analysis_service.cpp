@@ -25,6 +25,7 @@ void registerMetaTypes() {
   qRegisterMetaType<pb::SafetyResult>();
   qRegisterMetaType<pb::ui::SolvePtr>();
   qRegisterMetaType<pb::ui::EnvelopePtr>();
+  qRegisterMetaType<pb::ui::FailureMapPtr>();
 }
 
 }  // namespace
@@ -103,6 +104,22 @@ RequestId AnalysisService::solve(const pb::PalletConfig& config, const pb::Conve
     SolvePtr value = std::make_shared<const pb::Solve>(std::move(*result.value));
     return [this, id, value] { emit solved(id, value); };
   });
+}
+
+RequestId AnalysisService::failureMap(const pb::PalletConfig& config,
+                                      const pb::MapOptions& options) {
+  return submit(
+      [this, config, options](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
+        if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
+        reportProgress(id, tr("Mapping speed against acceleration"));
+        auto result = analyzer.failure_map(config, options);
+        if (!result) {
+          QString message = describeFailure(tr("The failure map failed"), result.diagnostics);
+          return [this, id, message] { emit failed(id, message); };
+        }
+        FailureMapPtr value = std::make_shared<const pb::FailureMap>(std::move(*result.value));
+        return [this, id, value] { emit failureMapReady(id, value); };
+      });
 }
 
 void AnalysisService::cancel(RequestId id) {

@@ -20,6 +20,7 @@ using RequestId = quint64;
 /// Results shared between panels without copies; nobody may change them.
 using SolvePtr = std::shared_ptr<const pb::Solve>;
 using EnvelopePtr = std::shared_ptr<const pb::Envelope>;
+using FailureMapPtr = std::shared_ptr<const pb::FailureMap>;
 
 /// Runs pb::Analyzer calls on one worker thread of a private QThreadPool (the Analyzer is not
 /// thread-safe, so requests run one at a time, in order, and share its cache). The GUI thread
@@ -47,6 +48,10 @@ class AnalysisService : public QObject {
   RequestId solve(const pb::PalletConfig& config, const pb::ConveyorProfile& profile,
                   double replay_hz = 30.0);
 
+  /// The speed x start-up-acceleration failure map (one batched call over `options.threads`
+  /// workers). Ends with failureMapReady() or failed().
+  RequestId failureMap(const pb::PalletConfig& config, const pb::MapOptions& options = {});
+
   /// Drops the request's result; it ends with cancelled(). Unknown or finished ids are ignored.
   void cancel(RequestId id);
   /// Cancels every request not yet ended.
@@ -60,6 +65,7 @@ class AnalysisService : public QObject {
   void analyzed(pb::ui::RequestId id, const pb::SafetyResult& result);
   void envelopeReady(pb::ui::RequestId id, const pb::ui::EnvelopePtr& envelope);
   void solved(pb::ui::RequestId id, const pb::ui::SolvePtr& solve);
+  void failureMapReady(pb::ui::RequestId id, const pb::ui::FailureMapPtr& map);
   /// The core refused the input, or the engine failed or went unstable: `message` says what to
   /// change, for a person.
   void failed(pb::ui::RequestId id, const QString& message);
@@ -91,3 +97,4 @@ class AnalysisService : public QObject {
 Q_DECLARE_METATYPE(pb::SafetyResult)
 Q_DECLARE_METATYPE(pb::ui::SolvePtr)
 Q_DECLARE_METATYPE(pb::ui::EnvelopePtr)
+Q_DECLARE_METATYPE(pb::ui::FailureMapPtr)

@@ -132,9 +132,9 @@ void ScreenshotRunner::capture(bool ok, const QString& message) {
   }
   // Let the layout settle and the panels repaint before grabbing.
   QTimer::singleShot(100, this, [this, note] {
-    ReplayPanel* panel = _window->replayPanel();
+    ReplayPanel* shown = _window->replayPanel();
     const QImage image =
-        _request.replayOnly ? panel->view()->grabFramebuffer() : _window->grab().toImage();
+        _request.replayOnly ? shown->view()->grabFramebuffer() : _window->grab().toImage();
     if (image.isNull() || !image.save(_request.screenshotPath, "PNG")) {
       emit done(1, QStringLiteral("cannot write the PNG %1").arg(_request.screenshotPath));
       return;

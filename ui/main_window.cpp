@@ -14,6 +14,7 @@
 
 #include "core/scenario.hpp"
 #include "ui/dial_panel.hpp"
+#include "ui/failure_map_view.hpp"
 #include "ui/file_actions.hpp"
 #include "ui/friction_chart.hpp"
 #include "ui/pallet_document.hpp"
@@ -111,7 +112,7 @@ MainWindow::MainWindow(QWidget* parent)
 
   // Dials, replay, traces and results.
   connect(_dials, &DialPanel::dispatchRequested, this,
-          [this](const pb::ConveyorProfile& profile) { dispatch(profile, true); });
+          [this](const pb::ConveyorProfile& profile) { dispatch(profile, true, true); });
   connect(_dials, &DialPanel::dialsChanged, _results, &ResultsPanel::setDialledPoint);
   connect(_replay, &ReplayPanel::timeChanged, _traces, &TracePlots::setCursorTime);
   connect(_replay->player(), &ReplayPlayer::playingChanged, this, [this](bool playing) {
@@ -152,6 +153,19 @@ void MainWindow::wireAnalysis() {
       maybeFinishDispatch();
     }
   });
+  connect(_service, &AnalysisService::failureMapReady, this,
+          [this](RequestId, const FailureMapPtr& map) {
+            FailureMapView::Grid grid;
+            grid.speeds_mps = map->speeds_mps;
+            grid.accels_mps2 = map->accels_mps2;
+            for (const pb::MapCell& c : map->cells) {
+              grid.cells.push_back({c.outcome, c.mode, c.non_monotone});
+            }
+            _results->mapView()->setGrid(grid);
+            showStatus(tr("Failure map: %1 simulations in %2 s")
+                           .arg(map->sims)
+                           .arg(map->wall_ms / 1000.0, 0, 'f', 1));
+          });
   connect(_service, &AnalysisService::failed, this, [this](RequestId id, const QString& message) {
     _results->showError(message);
     showStatus(message);
@@ -178,7 +192,7 @@ bool MainWindow::loadScenario(const QString& slug) {
   return _picker->loadSlug(slug);
 }
 
-void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze) {
+void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze, bool map) {
   _service->cancelAll();
   _dispatchOk = true;
   _dispatchMessage.clear();
@@ -186,6 +200,8 @@ void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze) {
   _solveId = _service->solve(_document->pallet(), profile);
   _analyzeDone = !analyze;
   _analyzeId = analyze ? _service->analyze(_document->pallet()) : 0;
+  // The failure map comes last (the slowest); the dispatch does not wait for it.
+  if (map) _service->failureMap(_document->pallet());
   _cancel->setEnabled(true);
 }
 

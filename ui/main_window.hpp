@@ -35,9 +35,9 @@ class MainWindow : public QMainWindow {
   /// Loads a curated scenario into the document and its suggested profile into the dials.
   bool loadScenario(const QString& slug);
   /// Runs `profile` on the document's pallet (the replay starts when it arrives) and, with
-  /// `analyze`, the SafetyResult meanwhile (as the Dispatch button does). Ends with
-  /// dispatchFinished().
-  void dispatch(const pb::ConveyorProfile& profile, bool analyze = true);
+  /// `analyze`, the SafetyResult meanwhile (as the Dispatch button does), then with `map` the
+  /// failure map (not waited for). Ends with dispatchFinished().
+  void dispatch(const pb::ConveyorProfile& profile, bool analyze = true, bool map = false);
 
   PalletDocument* document() const { return _document; }
   AnalysisService* service() const { return _service; }

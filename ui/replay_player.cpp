@@ -37,13 +37,25 @@ double ReplayPlayer::rateAt(double t, double speed, bool autoSlow, std::optional
 
 void ReplayPlayer::advance(double wallSeconds) {
   if (!(wallSeconds > 0.0)) return;
-  // Integrate in small pieces so the rate switches where slow motion starts, not a tick later.
+  // Piecewise exact: the rate changes only where the slow-motion window starts and ends.
   double left = wallSeconds;
   double t = _time;
+  const bool window = _autoSlow && _failure && kSlowRate < _speed;
+  const double s0 = window ? *_failure - kSlowBeforeS : 0.0;
+  const double s1 = window ? *_failure + kSlowAfterS : 0.0;
   while (left > 0.0 && t < _end) {
-    const double piece = std::min(left, 0.004);
-    t += rateAt(t, _speed, _autoSlow, _failure) * piece;
-    left -= piece;
+    const double r = rateAt(t, _speed, _autoSlow, _failure);
+    double boundary = _end;
+    if (window && t < s0) boundary = std::min(_end, s0);
+    if (window && t >= s0 && t <= s1) boundary = std::min(_end, std::nextafter(s1, _end + 1.0));
+    const double need = (boundary - t) / r;
+    if (need >= left) {
+      t += r * left;
+      left = 0.0;
+    } else {
+      t = boundary;
+      left -= need;
+    }
   }
   setTime(t);
   if (_time >= _end) pause();

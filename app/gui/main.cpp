@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     window.show();
     QTimer::singleShot(0, &window, [&] {
       if (!window.loadScenario(request.slug)) return;
-      window.dispatch(request.profile, true);
+      window.dispatch(request.profile, true, true);
     });
     return QApplication::exec();
   }

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT
+// The whole console, drawn for real (Xvfb + Mesa, 1400x900, device pixel ratio 1): each curated
+// scenario dispatched with its suggested profile (a solve, not an envelope), the replay placed at
+// its failure (or its end), and the frame checked where the replay pose puts things: the failing
+// items in the highlight colour around their projected centres, the pallet in its wood colour,
+// the trace plots holding one point per frame. The headless screenshot path (ScreenshotRunner,
+// what `palletballet --screenshot` runs) writes its PNG. Every PNG is kept as an artifact.
+#include <QDir>
+#include <QImage>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QtCharts/QLineSeries>
+
+#include "core/scenario.hpp"
+#include "ui/console_screenshot.hpp"
+#include "ui/main_window.hpp"
+#include "ui/replay_panel.hpp"
+#include "ui/replay_player.hpp"
+#include "ui/replay_view.hpp"
+#include "ui/trace_plots.hpp"
+
+using pb::ui::MainWindow;
+using pb::ui::ReplayView;
+
+namespace {
+
+constexpr QSize kWindow(1400, 900);
+
+QVector3D toQt(const pb::Vec3& v) {
+  return QVector3D(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+}
+
+int hueDistance(const QColor& a, const QColor& b) {
+  const int d = std::abs(a.hsvHue() - b.hsvHue());
+  return std::min(d, 360 - d);
+}
+
+QString artifact(const QString& name) {
+  QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR));
+  return QStringLiteral(PB_TEST_ARTIFACTS_DIR "/") + name;
+}
+
+}  // namespace
+
+class TestGlConsole : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() { QCOMPARE(ReplayView::probeOpenGl(), QString()); }
+
+  void scenarioAtItsFailure_data() {
+    QTest::addColumn<QString>("slug");
+    for (const std::string& slug : pb::scenario_slugs()) {
+      QTest::newRow(slug.c_str()) << QString::fromStdString(slug);
+    }
+  }
+
+  void scenarioAtItsFailure() {
+    QFETCH(QString, slug);
+    const auto scenario = pb::load_scenario(slug.toStdString());
+    QVERIFY(scenario.ok());
+    MainWindow window;
+    window.resize(kWindow);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QVERIFY(window.loadScenario(slug));
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dispatch(scenario->suggested_profile, false);
+    QVERIFY(finished.wait(60000));
+    QVERIFY2(finished.at(0).at(0).toBool(), qPrintable(finished.at(0).at(1).toString()));
+
+    pb::ui::ReplayPanel* panel = window.replayPanel();
+    ReplayView* view = panel->view();
+    QVERIFY(view != nullptr);
+    const pb::Replay& replay = panel->replay();
+    panel->player()->pause();
+    const double t = replay.failure ? replay.failure->time_s : replay.frames.back().t;
+    panel->player()->setTime(t);
+    QCOMPARE(view->time(), t);
+    QTest::qWait(50);
+    const QImage frame = view->grabFramebuffer();
+    QCOMPARE(frame.devicePixelRatio(), 1.0);
+    QVERIFY(frame.save(artifact(QStringLiteral("console_replay_%1.png").arg(slug))));
+    QVERIFY(window.grab().save(artifact(QStringLiteral("console_%1.png").arg(slug))));
+
+    // The trace plots: one point per frame, their cursor at t.
+    QCOMPARE(window.tracePlots()->series(pb::ui::TracePlots::Tilt)->count(),
+             static_cast<int>(replay.frames.size()));
+    QCOMPARE(window.tracePlots()->cursorTime(), t);
+
+    // The pallet: the centre of its front (+X) face, which faces the iso camera, shaded wood.
+    const pb::ReplayFrame& f = view->currentFrame();
+    QCOMPARE(f.items.size(), replay.pallet.items.size());
+    const pb::Vec3 front = pb::rotate(f.pallet.quat, {replay.pallet.base_dims_m[0] / 2.0, 0, 0});
+    const QPointF palletFront = view->project(
+        toQt({f.pallet.pos[0] + front[0], f.pallet.pos[1] + front[1], f.pallet.pos[2] + front[2]}));
+    const QColor wood = frame.pixelColor(palletFront.toPoint());
+    QVERIFY2(hueDistance(wood, QColor(176, 132, 84)) <= 6, qPrintable(wood.name()));
+
+    // Every item's projected centre lies in the view; every highlighted pixel is near a failing
+    // item; with a failure, the highlight is seen around the failing items' projected centres.
+    if (!replay.failure) {
+      qInfo("%s: no failure at the suggested profile", qPrintable(slug));
+      return;
+    }
+    QRectF failingBox;
+    for (int i : replay.failure->items) {
+      const pb::Item& item = replay.pallet.items[i];
+      const double r = std::max({item.dims_m[0], item.dims_m[1], item.dims_m[2]});
+      for (int c = 0; c < 8; ++c) {
+        const pb::Vec3 corner{f.items[i].pos[0] + ((c & 1) ? r : -r),
+                              f.items[i].pos[1] + ((c & 2) ? r : -r),
+                              f.items[i].pos[2] + ((c & 4) ? r : -r)};
+        const QPointF p = view->project(toQt(corner));
+        failingBox = failingBox.isNull() ? QRectF(p, QSizeF(1, 1))
+                                         : failingBox.united(QRectF(p, QSizeF(1, 1)));
+      }
+    }
+    int red = 0, stray = 0;
+    for (int y = 0; y < frame.height(); ++y) {
+      for (int x = 0; x < frame.width(); ++x) {
+        if (frame.pixelColor(x, y) != ReplayView::highlightColor()) continue;
+        ++red;
+        if (!failingBox.contains(QPointF(x, y))) ++stray;
+      }
+    }
+    qInfo("%s: %s at %.3f s, %d highlighted pixels", qPrintable(slug),
+          pb::to_string(replay.failure->mode).data(), t, red);
+    QVERIFY2(red >= 30, qPrintable(QStringLiteral("%1 highlighted pixels").arg(red)));
+    QCOMPARE(stray, 0);
+  }
+
+  void headlessScreenshotOfTheReplayView() {
+    QTemporaryDir dir;
+    pb::ui::ConsoleRequest request;
+    const QString out = dir.filePath(QStringLiteral("shot.png"));
+    QCOMPARE(pb::ui::ConsoleRequest::parse(QStringLiteral("tall-unwrapped-tower"), {}, {}, out,
+                                           QStringLiteral("failure"), QStringLiteral("800x600"),
+                                           QStringLiteral("replay"), request),
+             QString());
+    MainWindow window;
+    pb::ui::ScreenshotRunner runner(&window, request);
+    QSignalSpy done(&runner, &pb::ui::ScreenshotRunner::done);
+    runner.start();
+    QVERIFY(done.wait(60000));
+    QCOMPARE(done.at(0).at(0).toInt(), 0);
+    const QImage image(out);
+    QVERIFY(!image.isNull());
+    QCOMPARE(runner.capturedTime(), *window.replayPanel()->player()->failureTime());
+    QVERIFY(image.save(artifact(QStringLiteral("screenshot_replay_tall-unwrapped-tower.png"))));
+    int red = 0;
+    for (int y = 0; y < image.height(); ++y) {
+      for (int x = 0; x < image.width(); ++x)
+        red += image.pixelColor(x, y) == ReplayView::highlightColor();
+    }
+    QVERIFY(red >= 30);
+  }
+
+  void badArgumentsNameTheOption() {
+    pb::ui::ConsoleRequest r;
+    const auto parse = [&](const QString& slug, const QString& speed, const QString& at,
+                           const QString& size, const QString& view) {
+      return pb::ui::ConsoleRequest::parse(slug, speed, {}, QStringLiteral("x.png"), at, size, view,
+                                           r);
+    };
+    const QString ok = QStringLiteral("tall-unwrapped-tower");
+    const QString failure = QStringLiteral("failure"), size = QStringLiteral("800x600"),
+                  window = QStringLiteral("window");
+    QVERIFY(parse(QStringLiteral("nope"), {}, failure, size, window)
+                .startsWith(QStringLiteral("--scenario:")));
+    QVERIFY(parse(ok, QStringLiteral("fast"), failure, size, window)
+                .startsWith(QStringLiteral("--profile-speed:")));
+    QVERIFY(parse(ok, QStringLiteral("9"), failure, size, window)
+                .startsWith(QStringLiteral("--profile-speed:")));
+    QVERIFY(
+        parse(ok, {}, QStringLiteral("soon"), size, window).startsWith(QStringLiteral("--at:")));
+    QVERIFY(parse(ok, {}, failure, QStringLiteral("10x10"), window)
+                .startsWith(QStringLiteral("--size:")));
+    QVERIFY(parse(ok, {}, failure, size, QStringLiteral("dials"))
+                .startsWith(QStringLiteral("--screenshot-view:")));
+    QCOMPARE(parse(ok, QStringLiteral("1.5"), QStringLiteral("0.4"), size, window), QString());
+    QCOMPARE(r.profile.target_speed_mps, 1.5);
+    QCOMPARE(r.at, pb::ui::ConsoleRequest::At::time);
+    QCOMPARE(r.atTime, 0.4);
+  }
+};
+
+QTEST_MAIN(TestGlConsole)
+#include "tst_gl_console.moc"

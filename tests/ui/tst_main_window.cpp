@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT
+// The console without OpenGL (PB_NO_OPENGL=1, as on a machine with no usable driver): the replay
+// area says why, and everything else works: a scenario loads, a dispatch runs through the
+// analysis service and fills the replay, trace plots and results; a replay exported as JSON opens
+// again without re-simulating, and a broken replay file gets a message with its pointer. The
+// window's PNG is an artifact.
+#include <QDir>
+#include <QFile>
+#include <QLabel>
+#include <QMenu>
+#include <QMenuBar>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QtCharts/QLineSeries>
+
+#include "core/scenario.hpp"
+#include "ui/main_window.hpp"
+#include "ui/pallet_document.hpp"
+#include "ui/replay_panel.hpp"
+#include "ui/replay_player.hpp"
+#include "ui/trace_plots.hpp"
+
+using pb::ui::MainWindow;
+
+class TestMainWindow : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() {
+    qputenv("PB_NO_OPENGL", "1");
+    QStandardPaths::setTestModeEnabled(true);  // recent files away from the user's settings
+  }
+
+  void noOpenGlIsSaidAndEverythingElseWorks() {
+    MainWindow window;
+    window.resize(1400, 900);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    pb::ui::ReplayPanel* replay = window.replayPanel();
+    QCOMPARE(replay->view(), nullptr);
+    QVERIFY(replay->glProblem().contains(QStringLiteral("OpenGL")));
+    auto* label = replay->findChild<QLabel*>(QStringLiteral("replayNoOpenGl"));
+    QVERIFY(label != nullptr);
+    QVERIFY(label->isVisible());
+    QCOMPARE(label->text(), replay->glProblem());
+
+    QVERIFY(window.loadScenario(QStringLiteral("tall-unwrapped-tower")));
+    const auto scenario = pb::load_scenario("tall-unwrapped-tower");
+    QCOMPARE(window.windowTitle(), window.document()->windowTitle());
+    QVERIFY(window.isWindowModified());  // loading a scenario is an edit
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dispatch(scenario->suggested_profile, false);
+    QVERIFY(finished.wait(30000));
+    QCOMPARE(finished.at(0).at(0).toBool(), true);
+    QVERIFY(replay->hasReplay());
+    QCOMPARE(replay->replay().failure->items, std::vector<int>{7});
+    QVERIFY(replay->player()->isPlaying());  // the replay starts when it arrives
+    replay->player()->pause();
+    replay->player()->setTime(*replay->player()->failureTime());
+    auto* tilt = window.tracePlots()->series(pb::ui::TracePlots::Tilt);
+    QCOMPARE(tilt->count(), static_cast<int>(replay->replay().frames.size()));
+    QCOMPARE(window.tracePlots()->cursorTime(), replay->replay().failure->time_s);
+
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)));
+    const QString path = QStringLiteral(PB_TEST_ARTIFACTS_DIR "/console_no_opengl.png");
+    QVERIFY(window.grab().save(path));
+    qInfo("screenshot: %s", qPrintable(path));
+
+    // A frame PNG without OpenGL is the message itself, not a crash.
+    QTemporaryDir dir;
+    QCOMPARE(replay->exportFramePng(dir.filePath(QStringLiteral("frame.png"))), QString());
+  }
+
+  void replayFilesRoundTripAndBadOnesAreExplained() {
+    MainWindow window;
+    pb::ui::ReplayPanel* replay = window.replayPanel();
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("replay.json"));
+    QVERIFY(!replay->exportReplay(path).isEmpty());  // nothing to export yet
+    QVERIFY(window.loadScenario(QStringLiteral("tall-unwrapped-tower")));
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dispatch(pb::load_scenario("tall-unwrapped-tower")->suggested_profile, false);
+    QVERIFY(finished.wait(30000));
+    QCOMPARE(replay->exportReplay(path), QString());
+    const pb::Json written = pb::replay_to_json(replay->replay());
+
+    MainWindow other;
+    QCOMPARE(other.replayPanel()->openReplayFile(path), QString());
+    QVERIFY(pb::replay_to_json(other.replayPanel()->replay()) == written);
+    QCOMPARE(other.replayPanel()->player()->failureTime(), replay->player()->failureTime());
+
+    QFile bad(dir.filePath(QStringLiteral("bad.json")));
+    QVERIFY(bad.open(QIODevice::WriteOnly));
+    bad.write(R"({"hz": -1})");
+    bad.close();
+    const QString message = other.replayPanel()->openReplayFile(bad.fileName());
+    QVERIFY2(message.contains(QStringLiteral("/hz")), qPrintable(message));
+    QVERIFY(pb::replay_to_json(other.replayPanel()->replay()) == written);  // kept
+    QVERIFY(
+        !other.replayPanel()->openReplayFile(dir.filePath(QStringLiteral("none.json"))).isEmpty());
+  }
+
+  void menusOfferReplayFilesAndShortcuts() {
+    MainWindow window;
+    QStringList titles;
+    for (QAction* a : window.menuBar()->actions()) titles << a->text();
+    QVERIFY2(titles.contains(QStringLiteral("&Replay")), qPrintable(titles.join(QLatin1Char(','))));
+    QStringList file;
+    for (QAction* a : window.menuBar()->actions().first()->menu()->actions()) file << a->text();
+    QVERIFY2(file.contains(QStringLiteral("Open &Replay\u2026")),
+             qPrintable(file.join(QLatin1Char(','))));
+    QVERIFY(file.contains(QStringLiteral("&Export Replay\u2026")));
+    QCOMPARE(window.replayPanel()->playAction()->shortcut(), QKeySequence(Qt::Key_Space));
+    QCOMPARE(window.replayPanel()->stepBackAction()->shortcut(), QKeySequence(Qt::Key_Left));
+    QCOMPARE(window.replayPanel()->stepForwardAction()->shortcut(), QKeySequence(Qt::Key_Right));
+  }
+};
+
+QTEST_MAIN(TestMainWindow)
+#include "tst_main_window.moc"
