@@ -26,6 +26,22 @@ double norm3(const mjtNum* v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
+// `spin`) the largest angular acceleration, of the step just taken.
+double max_relative_accel(const SceneLayout& l, const mjData& d, double* spin) {
+  const double ax = d.qacc[l.belt_x_dof], ay = d.qacc[l.belt_y_dof];
+  double fastest = 0.0, fastest_spin = 0.0;
+  auto visit = [&](int dof) {
+    const mjtNum rel[3] = {d.qacc[dof] - ax, d.qacc[dof + 1] - ay, d.qacc[dof + 2]};
+    fastest = std::max(fastest, norm3(rel));
+    fastest_spin = std::max(fastest_spin, norm3(d.qacc + dof + 3));
+  };
+  visit(l.pallet_dof);
+  for (int dof : l.item_dofs) visit(dof);
+  *spin = fastest_spin;
+  return fastest;
+}
+
 }  // namespace
 
 std::optional<std::string> BeltWatch::check(double error) {
@@ -116,11 +132,29 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   // Co-moving must hold this long before a run stops early (a rocking load passes through
   // matching velocities for an instant).
   comove_needed_ = std::max(1, static_cast<int>(std::lround(0.05 / dt_)));
+  breakpoints_ = breakpoints;
+  dwell_needed_ = std::max(1, static_cast<int>(std::lround(o_.skip_dwell_s / dt_)));
   if (n_steps_ <= 0) done_ = true;  // finish() gives the final check
 }
 
 void ProbeRun::before_step(mjData& d) {
   const SceneLayout& l = scene_->layout;
+  if (skip_n_ > 0) {  // the co-moving jump after_step planned: the belt's rigid motion
+    auto move = [&](int qpos, int dof) {
+      d.qpos[qpos] += skip_dx_;
+      d.qpos[qpos + 1] += skip_dy_;
+      d.qvel[dof] += skip_dvx_;
+      d.qvel[dof + 1] += skip_dvy_;
+    };
+    d.qpos[l.belt_x_qpos] += skip_dx_;
+    d.qpos[l.belt_y_qpos] += skip_dy_;
+    d.qvel[l.belt_x_dof] += skip_dvx_;
+    d.qvel[l.belt_y_dof] += skip_dvy_;
+    move(l.pallet_qpos, l.pallet_dof);
+    for (std::size_t i = 0; i < l.item_qpos.size(); ++i) move(l.item_qpos[i], l.item_dofs[i]);
+    d.time += skip_n_ * dt_;
+    skip_n_ = 0;
+  }
   const double t_next = (k_ + 1) * dt_;
   // A velocity actuator with kv = M/dt reaches its command in one step: command the velocity
   // the belt should have at the end of this step.
@@ -128,6 +162,40 @@ void ProbeRun::before_step(mjData& d) {
   d.ctrl[l.belt_y_act] = profile_.lateral_velocity_at(t_next);
   command_x_ = d.ctrl[l.belt_x_act];
   command_y_ = d.ctrl[l.belt_y_act];
+}
+
+int ProbeRun::plan_skip() const {
+  if (!o_.skip_comoving || dwell_steps_ < dwell_needed_) return 0;
+  int last = n_steps_ - 1;  // the last step is always stepped
+  if (phase_ < breakpoints_.size()) {
+    // The step ending at or before the breakpoint is the phase's last: step it, and the one
+    // crossing the breakpoint.
+    last = std::min(last, static_cast<int>(std::floor(breakpoints_[phase_] / dt_ + 1e-9)) - 1);
+  } else if (o_.early_stop) {
+    return 0;  // after the last breakpoint the early stop decides
+  }
+  const int n = last - k_;
+  // A jump shorter than the dwell saves less than it cost, and near the phase's end it perturbs
+  // a marginal load for nothing (a 3-step jump flipped a top-heavy load's e-stop verdict).
+  if (n < std::max(2, dwell_needed_)) return 0;
+  // The command must be affine in time over the whole jump (the step after it included): an
+  // EUMOS rise is a phase, but its velocity is quadratic.
+  auto affine = [&](auto&& v) {
+    const double v0 = v(k_ * dt_), v1 = v((k_ + n) * dt_);
+    for (int j : {n / 4, n / 2, (3 * n) / 4, n + 1}) {
+      const double expected = v0 + (v1 - v0) * j / n;
+      if (std::abs(v((k_ + j) * dt_) - expected) > 1e-7 * (1.0 + std::abs(expected))) return false;
+    }
+    return true;
+  };
+  if (!affine([&](double t) { return profile_.velocity_at(t); })) return 0;
+  if (!affine([&](double t) { return profile_.lateral_velocity_at(t); })) return 0;
+  return n;
+}
+
+void ProbeRun::shift(Pose& p) const {
+  p.pos[0] += skip_dx_;
+  p.pos[1] += skip_dy_;
 }
 
 void ProbeRun::unstable(const std::string& reason) {
@@ -186,18 +254,73 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       }
     }
   }
-  if (o_.early_stop && !r_.failure && t_next >= last_breakpoint_) {
+  // Co-moving: within the current phase for skipping, after the last breakpoint for the early stop.
+  std::size_t phase = 0;
+  while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
+  if (phase != phase_) dwell_steps_ = 0;
+  phase_ = phase;
+  const bool want_stop = o_.early_stop && !r_.failure && t_next >= last_breakpoint_;
+  const bool want_skip = o_.skip_comoving && !r_.failure && k < n_steps_;
+  bool comoving = false;
+  if (want_stop || want_skip) {
     double spin = 0.0;
     const double speed = max_relative_speed(l, d, belt.vx, belt.vy, &spin);
-    comove_steps_ =
-        (speed < o_.comove_speed_mps && spin < o_.comove_spin_radps) ? comove_steps_ + 1 : 0;
+    comoving = speed < o_.comove_speed_mps && spin < o_.comove_spin_radps;
+  }
+  // Skipping also needs the load steady, not at the turning point of a slow rock (velocities
+  // matching the belt's for an instant while the accelerations do not).
+  bool steady = false;
+  if (want_skip && comoving) {
+    double spin_accel = 0.0;
+    const double accel = max_relative_accel(l, d, &spin_accel);
+    steady = accel < o_.comove_speed_mps / o_.skip_dwell_s &&
+             spin_accel < o_.comove_spin_radps / o_.skip_dwell_s;
+  }
+  dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
+  if (want_stop) {
+    comove_steps_ = comoving ? comove_steps_ + 1 : 0;
     if (comove_steps_ >= comove_needed_) {
       r_.stopped_early = k < n_steps_;
       finish(m, d);
       return false;
     }
   }
-  if (k >= n_steps_) {
+  if (want_skip) {
+    if (const int n = plan_skip(); n > 0) {
+      const double t0 = k * dt_, t1 = (k + n) * dt_;
+      const double v0x = profile_.velocity_at(t0), v1x = profile_.velocity_at(t1);
+      const double v0y = profile_.lateral_velocity_at(t0), v1y = profile_.lateral_velocity_at(t1);
+      // Semi-implicit Euler moves the belt by dt * v(t_j) per step: n dt v0 + a dt^2 n(n+1)/2.
+      const double sum = 0.5 * (n + 1) * dt_;  // dt^2 n(n+1)/2 divided by n dt
+      skip_dx_ = n * dt_ * v0x + (v1x - v0x) * sum;
+      skip_dy_ = n * dt_ * v0y + (v1y - v0y) * sum;
+      skip_dvx_ = v1x - v0x;
+      skip_dvy_ = v1y - v0y;
+      skip_n_ = n;
+      k_ = k + n;
+      r_.steps = k_;
+      r_.sim_time_s = t1;
+      r_.steps_skipped += n;
+      r_.skipped_s += n * dt_;
+      // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
+      // under the belt's rigid motion: the detector is run for consistency, not for news).
+      Pose pallet1 = pallet;
+      shift(pallet1);
+      for (auto& item : items_) shift(item);
+      const Trace::BeltState belt1{belt.x + skip_dx_, belt.y + skip_dy_, belt.vx + skip_dvx_,
+                                   belt.vy + skip_dvy_};
+      if (o_.record_trace) r_.trace.push(t1, belt1, pallet1, items_);
+      if (auto event = detector_.update(t1, belt1, pallet1, items_)) {
+        r_.failure = std::move(event);
+        r_.outcome = Outcome::failed;
+        if (o_.fail_fast) {
+          finish(m, d);
+          return false;
+        }
+      }
+    }
+  }
+  if (k_ >= n_steps_) {
     finish(m, d);
     return false;
   }

@@ -58,7 +58,8 @@ class ProbeRun {
   /// True once the outcome is decided (no more steps).
   bool done() const { return done_; }
 
-  /// Writes the belt command for the step about to run.
+  /// Writes the belt command for the step about to run (applying a pending co-moving jump to
+  /// `data` first: see SimOptions::skip_comoving).
   void before_step(mjData& data);
   /// Reads the step just taken; false when the run is over (the result is final then).
   bool after_step(const mjModel& model, const mjData& data);
@@ -73,6 +74,10 @@ class ProbeRun {
 
  private:
   void unstable(const std::string& reason);
+  // Plans a co-moving jump from step k_ (see SimOptions::skip_comoving): the steps to skip, or 0.
+  int plan_skip() const;
+  // Shifts `p` by the pending jump's belt travel.
+  void shift(Pose& p) const;
 
   const Scene* scene_;
   const RestState* rest_;
@@ -85,6 +90,12 @@ class ProbeRun {
   double belt_x0_ = 0.0, belt_y0_ = 0.0, fall_through_z_ = 0.0;
   double command_x_ = 0.0, command_y_ = 0.0;
   int n_steps_ = 0, k_ = 0, comove_needed_ = 1, comove_steps_ = 0;
+  // Skipping: the profile's breakpoints, the phase of the last step, the co-moving steps within
+  // it, and the pending jump (steps, belt travel, belt velocity change) before_step applies.
+  std::vector<double> breakpoints_;
+  std::size_t phase_ = 0;
+  int dwell_needed_ = 1, dwell_steps_ = 0, skip_n_ = 0;
+  double skip_dx_ = 0.0, skip_dy_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
   bool done_ = false;
   std::vector<Pose> items_;
 };

@@ -47,6 +47,17 @@ struct SimOptions {
   double comove_speed_mps = 0.001;  ///< co-moving: every body within this of the belt's velocity
   double comove_spin_radps = 0.01;
   bool record_trace = true;  ///< keep every step's poses (replays, plots); off for searches
+  /// Event-driven skipping: once every body has co-moved with the belt (and accelerated with it:
+  /// relative accelerations below comove_speed_mps / skip_dwell_s, angular ones below
+  /// comove_spin_radps / skip_dwell_s, so no slow rock at its turning point) for `skip_dwell_s`
+  /// within one phase of the profile whose command is affine in time (constant velocity or constant
+  /// acceleration, lateral included), jump analytically to one step before the phase's next
+  /// breakpoint: every body and the belt get the belt's rigid motion (positions += the belt's
+  /// travel, velocities += its velocity change, orientations and relative velocities kept). The
+  /// detectors' measures are invariant under that motion. After the last breakpoint the early
+  /// stop decides instead (when on).
+  bool skip_comoving = true;
+  double skip_dwell_s = 0.02;
 };
 
 struct SimResult {
@@ -54,7 +65,9 @@ struct SimResult {
   std::optional<FailureEvent> failure;
   std::string reason;  ///< why the run is unstable (empty otherwise)
   Trace trace;
-  int steps = 0;
+  int steps = 0;               ///< profile steps reached (stepped + skipped)
+  int steps_skipped = 0;       ///< of `steps`, jumped analytically (skip_comoving)
+  double skipped_s = 0.0;      ///< profile time jumped analytically
   double sim_time_s = 0.0;     ///< profile time reached
   bool stopped_early = false;  ///< co-moving after the last breakpoint: nothing could change
   double wall_ms = 0.0;

@@ -162,6 +162,8 @@ Json solve_json(const SimResult& sim, const ConveyorProfile& profile) {
   j["failure"] = failure_json(sim.failure);
   if (sim.outcome == Outcome::unstable) j["reason"] = sim.reason;
   j["steps"] = sim.steps;
+  j["steps_skipped"] = sim.steps_skipped;
+  j["skipped_s"] = sim.skipped_s;
   j["sim_time_s"] = sim.sim_time_s;
   j["stopped_early"] = sim.stopped_early;
   j["wall_ms"] = sim.wall_ms;
@@ -289,6 +291,7 @@ struct BenchRun {
   double envelope_ms = 0.0;
   double prepare_ms = 0.0;
   int steps = 0;
+  int steps_skipped = 0;  ///< of `steps`, jumped analytically (SimOptions::skip_comoving)
   Outcome outcome = Outcome::safe;
   SafetyResult result;
 };
@@ -310,6 +313,7 @@ Result<BenchRun> bench_once(const Scenario& scenario) {
   if (!solve) return Result<BenchRun>::failure(std::move(solve.diagnostics));
   run.solve_ms = solve->sim.wall_ms;
   run.steps = solve->sim.steps;
+  run.steps_skipped = solve->sim.steps_skipped;
   run.outcome = solve->sim.outcome;
   return Result<BenchRun>{std::move(run), {}};
 }
@@ -334,14 +338,16 @@ Json bench_scenario(const Scenario& scenario, int runs) {
     last = std::move(*run.value);
   }
   const double solve = median(solve_ms);
-  const bool timed = last.steps > 0 && solve > 0.0;
+  const int stepped = last.steps - last.steps_skipped;  // mj_step calls
+  const bool timed = stepped > 0 && solve > 0.0;
   return {{"scenario", scenario.slug},
           {"items", scenario.pallet.items.size()},
           {"runs", runs},
           {"solve_ms_median", solve},
           {"steps", last.steps},
-          {"steps_per_s", timed ? last.steps / (solve / 1000.0) : 0.0},
-          {"us_per_step", timed ? solve * 1000.0 / last.steps : 0.0},
+          {"steps_skipped", last.steps_skipped},
+          {"steps_per_s", timed ? stepped / (solve / 1000.0) : 0.0},
+          {"us_per_step", timed ? solve * 1000.0 / stepped : 0.0},
           {"outcome", to_string(last.outcome)},
           {"prepare_ms_median", median(prepare_ms)},
           {"envelope_ms_median", median(envelope_ms)},
@@ -370,6 +376,7 @@ void print_bench_table(const Json& rows) {
                                        {"items", "items", 5, 0},
                                        {"solve_ms_median", "solve_ms", 9, 1},
                                        {"steps", "steps", 6, 0},
+                                       {"steps_skipped", "skipped", 7, 0},
                                        {"us_per_step", "us/step", 8, 1},
                                        {"steps_per_s", "steps/s", 8, 0},
                                        {"outcome", "outcome", 8, -1},

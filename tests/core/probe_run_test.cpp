@@ -5,7 +5,9 @@
 #include <memory>
 #include <optional>
 
+#include "core/analyzer.hpp"
 #include "core/envelope.hpp"
+#include "core/scenario.hpp"
 #include "test_friction.hpp"
 #include "test_pallets.hpp"
 
@@ -50,6 +52,29 @@ SimResult by_hand(const Rig& r, const ConveyorProfile& profile, const SimOptions
   return run.take_result();
 }
 
+SimOptions skipping(bool on) {
+  SimOptions o;
+  o.record_trace = false;  // as a search runs its probes
+  o.skip_comoving = on;
+  return o;
+}
+
+// Skipping may move a failure by the dwell it waits plus one step.
+void compare_skip(const SimResult& full, const SimResult& skip, double dt, const SimOptions& o,
+                  const std::string& what) {
+  const std::string msg = what + ": outcome " + std::string(to_string(full.outcome)) + " vs " +
+                          std::string(to_string(skip.outcome));
+  QVERIFY2(skip.outcome == full.outcome, msg.c_str());
+  QCOMPARE(bool(skip.failure), bool(full.failure));
+  QCOMPARE(full.steps_skipped, 0);
+  if (full.failure) {
+    QVERIFY2(skip.failure->mode == full.failure->mode, what.c_str());
+    const double dt_fail = std::abs(skip.failure->time_s - full.failure->time_s);
+    QVERIFY2(dt_fail <= o.skip_dwell_s + dt + 1e-9,
+             (what + ": failure time moved by " + std::to_string(dt_fail) + " s").c_str());
+  }
+}
+
 }  // namespace
 
 class ProbeRunTest : public QObject {
@@ -82,6 +107,134 @@ class ProbeRunTest : public QObject {
     QCOMPARE(hand.trace.size(), serial.trace.size());
     QCOMPARE(hand.trace.pallet(hand.trace.size() - 1).pos,
              serial.trace.pallet(serial.trace.size() - 1).pos);
+  }
+
+  // Event-driven skipping on every curated scenario (its prepared model: reduced where the
+  // automatic choice picks it): a couple of probes per axis give the same outcome and mode as full
+  // stepping, the failure time within the dwell plus one step. On the costly full 24-item scenario
+  // only the cheaper probe of each axis runs.
+  void skipMatchesFullSteppingOnCuratedScenarios() {
+    const SearchConfig search;
+    const LineDescription line;
+    int skipped = 0, probes = 0;
+    for (const Scenario& scenario : all_scenarios()) {
+      Analyzer analyzer;
+      auto prepared = analyzer.prepare(scenario.pallet);
+      QVERIFY2(prepared.ok(), scenario.slug.c_str());
+      PreparedPallet& p = **prepared.value;
+      const double dt = p.scene->model->opt.timestep;
+      std::vector<std::pair<std::string, ConveyorProfile>> profiles = {
+          {"accel 4.0", accel_probe_profile(4.0, search)},
+          {"decel 4.5", decel_probe_profile(4.5, 1.5, search)},
+          {"lateral 0.4 g", lateral_probe_profile(0.4, line, search)},
+          {"stop 2.0", stop_probe_profile(2.0, line, search)}};
+      const bool costly = p.fidelity.level == Fidelity::full && scenario.pallet.items.size() > 12;
+      if (!costly) {
+        profiles.push_back({"accel 1.0", accel_probe_profile(1.0, search)});
+        profiles.push_back({"decel 1.0", decel_probe_profile(1.0, 1.5, search)});
+        profiles.push_back({"lateral 0.05 g", lateral_probe_profile(0.05, line, search)});
+        profiles.push_back({"stop 0.5", stop_probe_profile(0.5, line, search)});
+      }
+      for (const auto& [name, profile] : profiles) {
+        const SimResult full = p.simulator->run(p.rest, profile, skipping(false));
+        const SimResult skip = p.simulator->run(p.rest, profile, skipping(true));
+        compare_skip(full, skip, dt, skipping(true), scenario.slug + " " + name);
+        skipped += skip.steps_skipped;
+        ++probes;
+        qInfo("%s %s: %s, %d steps, %d skipped (full stepping: %d steps)", scenario.slug.c_str(),
+              name.c_str(), std::string(to_string(skip.outcome)).c_str(), skip.steps,
+              skip.steps_skipped, full.steps);
+      }
+    }
+    QVERIFY(probes >= 40);
+    QVERIFY(skipped > 0);
+  }
+
+  // The envelope limits and their modes are identical with and without skipping.
+  void envelopeUnchangedBySkipping_data() {
+    QTest::addColumn<QString>("slug");
+    QTest::newRow("stable-dairy-slab") << "stable-dairy-slab";
+    QTest::newRow("random-scanner-feed") << "random-scanner-feed";
+  }
+  void envelopeUnchangedBySkipping() {
+    QFETCH(QString, slug);
+    auto scenario = load_scenario(slug.toStdString());
+    QVERIFY(scenario.ok());
+    Analyzer analyzer;
+    auto prepared = analyzer.prepare(scenario->pallet);
+    QVERIFY(prepared.ok());
+    PreparedPallet& p = **prepared.value;
+    auto full = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(false));
+    auto skip = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(true));
+    QVERIFY(full.ok() && skip.ok());
+    for (auto axis : {&Envelope::accel, &Envelope::decel, &Envelope::lateral, &Envelope::speed}) {
+      QCOMPARE(((*skip.value).*axis).limit, ((*full.value).*axis).limit);
+      QCOMPARE(((*skip.value).*axis).mode, ((*full.value).*axis).mode);
+    }
+  }
+
+  // The jump: an e-stop probe from speed skips its steady lead-in only after the dwell and stops
+  // one step short of the breakpoint; the trace holds the jump's endpoint, the belt and the pallet
+  // moved by the constant-speed travel v t (closed form) and the load did not move on the pallet.
+  // The EUMOS rise (quadratic velocity) is never skipped.
+  void jumpIsTheBeltsRigidMotion() {
+    auto r = rig();
+    ConveyorProfile profile = decel_probe_profile(1.0, 1.5, {});
+    profile.decel_start_s = 0.5;
+    SimOptions o;
+    const SimResult s = r->sim->run(r->rest, profile, o);
+    const double dt = r->scene->model->opt.timestep;
+    QCOMPARE(s.outcome, Outcome::safe);
+    QVERIFY(s.steps_skipped > 0);
+    QVERIFY(std::abs(s.skipped_s - s.steps_skipped * dt) < 1e-9);
+    const std::vector<double> breakpoints = profile.breakpoints();
+    int gaps = 0, lead_in_gaps = 0;
+    for (std::size_t i = 1; i < s.trace.size(); ++i) {
+      const double t0 = s.trace.time(i - 1), t1 = s.trace.time(i);
+      if (t1 - t0 < 1.5 * dt) continue;
+      ++gaps;
+      // Within one phase, after the dwell, and one step short of the next breakpoint.
+      double before = 0.0, after = profile.duration_s;
+      for (double b : breakpoints) {
+        if (b <= t0) before = b;
+        if (b > t0 && after == profile.duration_s) after = b;
+      }
+      QVERIFY2(t0 >= before + o.skip_dwell_s - 1e-9, "jumped before the dwell");
+      QVERIFY2(t1 <= after - dt + 1e-9, "jumped over the breakpoint's step");
+      // The belt moved as stepping moves it (dt v(t_j) per step), within the discretisation of
+      // the closed form (the integral of v); the pallet moved with it, orientation unchanged.
+      const int n = static_cast<int>(std::lround((t1 - t0) / dt));
+      double stepped = 0.0, exact = 0.0;
+      for (int j = 1; j <= n; ++j) {
+        stepped += dt * profile.velocity_at(t0 + j * dt);
+        exact += dt * profile.velocity_at(t0 + (j - 0.5) * dt);
+      }
+      const double belt_travel = s.trace.belt(i).x - s.trace.belt(i - 1).x;
+      QVERIFY(std::abs(belt_travel - stepped) < 1e-9);
+      QVERIFY(std::abs(belt_travel - exact) <= 0.5 * profile.decel_mps2 * dt * (t1 - t0) + 1e-9);
+      const double pallet_travel = s.trace.pallet(i).pos[0] - s.trace.pallet(i - 1).pos[0];
+      QVERIFY(std::abs(pallet_travel - belt_travel) < 1e-9);
+      QCOMPARE(s.trace.pallet(i).quat, s.trace.pallet(i - 1).quat);
+      if (t1 < profile.decel_start_s) {
+        ++lead_in_gaps;
+        QVERIFY(std::abs(belt_travel - profile.target_speed_mps * (t1 - t0)) < 1e-9);
+      }
+    }
+    QVERIFY(gaps >= 1);
+    QCOMPARE(lead_in_gaps, 1);
+    // The run after the jump: the pallet still rides with the belt (slip well below threshold).
+    const std::size_t last = s.trace.size() - 1;
+    QVERIFY(std::abs(s.trace.belt(last).x -
+                     (s.trace.pallet(last).pos[0] - s.trace.pallet(0).pos[0])) < 0.05);
+
+    ConveyorProfile eumos;
+    eumos.shape = ProfileShape::eumos;
+    eumos.eumos_g = 0.1;
+    eumos.duration_s = 1.0;
+    const SimResult e = r->sim->run(r->rest, eumos, o);
+    for (std::size_t i = 1; i < e.trace.size(); ++i) {
+      if (e.trace.time(i) - e.trace.time(i - 1) > 1.5 * dt) QVERIFY(e.trace.time(i - 1) >= 0.05);
+    }
   }
 
   void beltWatchNeedsThreeGrowingSteps() {
