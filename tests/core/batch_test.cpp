@@ -680,8 +680,15 @@ class BatchTest : public QObject {
         "%d simulations: peak RSS +%.1f MB, RSS +%.1f MB (their states: %.1f MB; one mjData "
         "each would be %.0f MB)",
         kMemorySims, peak_mb, rss_mb, states_mb, naive_mb);
-    QVERIFY2(peak_mb < 256.0, qPrintable(QString("peak RSS grew %1 MB").arg(peak_mb)));
-    QVERIFY2(rss_mb < 256.0, qPrintable(QString("RSS grew %1 MB").arg(rss_mb)));
+#if defined(__SANITIZE_THREAD__)
+    // ThreadSanitizer shadows every byte with four and keeps its own allocator (measured: +210 MB
+    // here against +42 MB in release): the 256 MB budget is the real build's.
+    constexpr double kBudgetMb = 4 * 256.0;
+#else
+    constexpr double kBudgetMb = 256.0;
+#endif
+    QVERIFY2(peak_mb < kBudgetMb, qPrintable(QString("peak RSS grew %1 MB").arg(peak_mb)));
+    QVERIFY2(rss_mb < kBudgetMb, qPrintable(QString("RSS grew %1 MB").arg(rss_mb)));
     // The measurement sees the batch: its states are resident.
     QVERIFY2(
         rss_mb >= 0.9 * states_mb,
