@@ -9,6 +9,7 @@
 
 #include "app/cli/commands.hpp"
 #include "core/analyzer.hpp"
+#include "core/fidelity.hpp"
 #include "core/scenario.hpp"
 #include "core/scene.hpp"
 #include "core/text.hpp"
@@ -171,7 +172,25 @@ Json solve_json(const SimResult& sim, const ConveyorProfile& profile) {
   return j;
 }
 
+// --fidelity: which model answers (core/fidelity.hpp); automatic when absent.
+Fidelity fidelity_option(const Args& args, const std::string& verb) {
+  const auto text = args.text("fidelity");
+  if (!text) return Fidelity::automatic;
+  const auto level = enum_from_string<Fidelity>(*text);
+  if (!level) {
+    throw UsageError{verb + ": --fidelity must be one of " + enum_choices<Fidelity>() + ", not '" +
+                     *text + "'"};
+  }
+  return *level;
+}
+
 int run_solve(const Args& args) {
+  AnalyzerOptions options;
+  options.fidelity = fidelity_option(args, "solve");
+  if (options.fidelity == Fidelity::closed_form) {
+    throw UsageError{
+        "solve: --fidelity closed_form has no simulation to run; use auto, reduced or full"};
+  }
   const double hz = option_in_range(args, "solve", "hz", 30.0, 0.0, 1000.0, "frames per second");
   auto input = pallet_arg(args.positionals()[0]);
   if (!input) return kExitBadInput;
@@ -184,7 +203,7 @@ int run_solve(const Args& args) {
   std::optional<std::ofstream> replay_file;
   if (auto path = args.text("replay")) replay_file = open_output("solve", *path);
 
-  Analyzer analyzer;
+  Analyzer analyzer(options);
   auto solve = analyzer.solve(input->pallet, profile, hz);
   if (!solve) {
     print_diagnostics(located(solve.diagnostics, *input));
@@ -215,6 +234,7 @@ AnalyzerOptions analyze_options(const Args& args) {
                                          search.speed_min_mps, 5.0, "m/s");
   search.accel_max_mps2 = option_in_range(args, "analyze", "accel-max", search.accel_max_mps2,
                                           search.accel_min_mps2, 10.0, "m/s^2");
+  o.fidelity = fidelity_option(args, "analyze");
   return o;
 }
 
@@ -298,9 +318,11 @@ struct BenchRun {
 
 // One cold run: a fresh Analyzer (compile and settle included) searches the envelope, then
 // solves the suggested profile on the settled scene.
-Result<BenchRun> bench_once(const Scenario& scenario) {
+Result<BenchRun> bench_once(const Scenario& scenario, Fidelity fidelity) {
   BenchRun run;
-  Analyzer analyzer;
+  AnalyzerOptions options;
+  options.fidelity = fidelity;
+  Analyzer analyzer(options);
   const auto start = std::chrono::steady_clock::now();
   auto envelope = analyzer.envelope(scenario.pallet);
   if (!envelope) return Result<BenchRun>::failure(std::move(envelope.diagnostics));
@@ -325,12 +347,12 @@ double median(std::vector<double> values) {
 }
 
 // The medians of `runs` cold runs of one scenario; {"scenario", "error"} if one fails.
-Json bench_scenario(const Scenario& scenario, int runs) {
+Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity) {
   std::vector<double> solve_ms, envelope_ms, prepare_ms;
   BenchRun last;
   for (int i = 0; i < runs; ++i) {
     std::cerr << "bench: " << scenario.slug << " run " << i + 1 << "/" << runs << "\n";
-    auto run = bench_once(scenario);
+    auto run = bench_once(scenario, fidelity);
     if (!run) return {{"scenario", scenario.slug}, {"error", messages_json(run.diagnostics)}};
     solve_ms.push_back(run->solve_ms);
     envelope_ms.push_back(run->envelope_ms);
@@ -425,6 +447,7 @@ int run_bench(const Args& args) {
   }
   const std::int64_t runs = args.integer("runs").value_or(3);
   if (runs < 1 || runs > 1000) throw UsageError{"bench: --runs must be between 1 and 1000"};
+  const Fidelity fidelity = fidelity_option(args, "bench");
   std::vector<Scenario> scenarios;
   if (auto slug = args.text("scenario")) {
     auto scenario = load_scenario(*slug);
@@ -439,7 +462,7 @@ int run_bench(const Args& args) {
   Json rows = Json::array();
   int exit_code = kExitOk;
   for (const auto& scenario : scenarios) {
-    rows.push_back(bench_scenario(scenario, static_cast<int>(runs)));
+    rows.push_back(bench_scenario(scenario, static_cast<int>(runs), fidelity));
     if (rows.back().contains("error")) exit_code = kExitFailure;
   }
   if (args.flag("json")) {
@@ -487,7 +510,8 @@ std::vector<Command> physics_commands() {
          {"angle", "DEG", "curve angle, deg (default 90)"},
          {"eumos-g", "K", "EUMOS 40509 test pulse, in g (default 0.5)"},
          {"replay", "OUT.json", "write the replay (poses at --hz) to OUT.json"},
-         {"hz", "HZ", "replay frame rate (default 30)"}},
+         {"hz", "HZ", "replay frame rate (default 30)"},
+         {"fidelity", "LEVEL", "auto, reduced or full: the model that runs (default auto)"}},
         1,
         1},
        run_solve},
@@ -505,7 +529,10 @@ std::vector<Command> physics_commands() {
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
           "list every probe of each search (axis, value, outcome, mode, failure_time_s); every "
-          "file's search is then run, repeated pallets included"}},
+          "file's search is then run, repeated pallets included"},
+         {"fidelity", "LEVEL",
+          enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "
+                                     "agreement with the full model is established)"}},
         1,
         1000000},
        run_analyze},
@@ -523,6 +550,8 @@ std::vector<Command> physics_commands() {
         {{"runs", "N", "runs per scenario, or per configuration for batch (default 3)"},
          {"json", "", "print a JSON array instead of the table"},
          {"scenario", "SLUG", "only this curated scenario"},
+         {"fidelity", "LEVEL",
+          enum_choices<Fidelity>() + ": the model of every run (default auto)"},
          {"sims", "N", "batch: simulations (default 64)"},
          {"threads", "LIST", "batch: thread counts to time (default 1,2)"},
          {"nstep", "LIST", "batch: steps per call to time (default 1,10)"},
