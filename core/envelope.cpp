@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/envelope.hpp"
+#include "core/failure_map.hpp"
 #include "core/fidelity.hpp"
 #include "core/text.hpp"
 
@@ -10,6 +11,7 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 namespace pb {
 
@@ -37,13 +39,26 @@ struct ProbeVerdict {
 };
 
 // One axis: probe near the seed, step outwards (doubling) until the boundary is bracketed, then
-// bisect to the precision. Failure is assumed monotone along the axis.
+// bisect to the precision. Failure is assumed monotone along the axis. With a batch function and
+// k > 1 the bracket is narrowed by k-section instead: each round probes k points of the bisection
+// grid of the bracket at once (one batched call), so rounds drop from log2 n to log_{k+1} n; the
+// walk that brackets the boundary stays serial.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
+  /// One verdict per value, in order; nullopt when any probe was unstable (or the batch failed).
+  using BatchFn =
+      std::function<std::optional<std::vector<ProbeVerdict>>(const std::vector<double>&)>;
 
-  AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true)
-      : min_(lo), max_(hi), precision_(precision), probe_(std::move(probe)), seeded_(seeded) {}
+  AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true,
+             BatchFn batch = {}, int k = 1)
+      : min_(lo),
+        max_(hi),
+        precision_(precision),
+        probe_(std::move(probe)),
+        seeded_(seeded),
+        batch_(std::move(batch)),
+        k_(k) {}
 
   // nullopt when a probe was unstable.
   std::optional<AxisLimit> run(double seed) {
@@ -51,23 +66,63 @@ class AxisSearch {
     out.closed_form = seed;
     std::optional<double> safe, fail;
     FailureMode fail_mode = FailureMode::no_failure;
-    auto test = [&](double x) -> std::optional<bool> {
-      auto v = probe_(x);
+    auto record = [&](double x, const ProbeVerdict& v) {
       ++out.probes;
-      if (!v) return std::nullopt;
-      if (v->failed) {
+      if (v.failed) {
         if (!fail || x < *fail) {
           fail = x;
-          fail_mode = v->mode;
+          fail_mode = v.mode;
         }
       } else if (!safe || x > *safe) {
         safe = x;
       }
+    };
+    auto test = [&](double x) -> std::optional<bool> {
+      auto v = probe_(x);
+      if (!v) {
+        ++out.probes;
+        return std::nullopt;
+      }
+      record(x, *v);
       return v->failed;
     };
+    // k-section over the points bisection of [a, b] could probe (a and b known already).
+    auto k_section = [&](double a, double b) -> bool {
+      std::vector<double> grid{a};
+      bisection_grid(a, b, 0, grid);
+      std::size_t i = 0, j = grid.size() - 1;
+      while (j - i > 1) {
+        const std::size_t m = std::min(std::size_t(k_), j - i - 1);
+        std::vector<std::size_t> idx;
+        for (std::size_t t = 1; t <= m; ++t) {
+          const auto n = i + std::size_t(std::lround(double(t) * double(j - i) / double(m + 1)));
+          if (n > i && n < j && (idx.empty() || n > idx.back())) idx.push_back(n);
+        }
+        std::vector<double> xs;
+        for (std::size_t n : idx) xs.push_back(grid[n]);
+        auto verdicts = batch_(xs);
+        if (!verdicts) {
+          out.probes += int(xs.size());
+          return false;
+        }
+        std::size_t new_j = j, new_i = i;
+        for (std::size_t t = 0; t < idx.size(); ++t) {
+          record(xs[t], (*verdicts)[t]);
+          if ((*verdicts)[t].failed && new_j == j) new_j = idx[t];
+        }
+        for (std::size_t t = 0; t < idx.size(); ++t) {
+          if (!(*verdicts)[t].failed && idx[t] < new_j) new_i = std::max(new_i, idx[t]);
+        }
+        i = new_i;
+        j = new_j;
+      }
+      return true;
+    };
+    const bool sectioned = batch_ && k_ > 1;
     if (!seeded_) {  // the reference's plain bisection over the whole range
       double lo = min_, hi = max_;
-      while (hi - lo > precision_) {
+      if (sectioned && !k_section(lo, hi)) return std::nullopt;
+      while (!sectioned && hi - lo > precision_) {
         const double mid = 0.5 * (lo + hi);
         auto r = test(mid);
         if (!r) return std::nullopt;
@@ -93,13 +148,30 @@ class AxisSearch {
       }
       if (!fail && first < max_ && !test(max_)) return std::nullopt;
     }
-    while (safe && fail && *fail - *safe > precision_) {
+    if (sectioned && safe && fail && *fail - *safe > precision_) {
+      if (!k_section(*safe, *fail)) return std::nullopt;
+    }
+    while (!sectioned && safe && fail && *fail - *safe > precision_) {
       if (!test(0.5 * (*safe + *fail))) return std::nullopt;
     }
     return finish(out, safe, fail, fail_mode);
   }
 
  private:
+  // Appends the points bisection of [a, b] to the precision can probe after a, ascending, b
+  // last: the same expressions as the bisection, so the same doubles and, when failure is
+  // monotone, the same limit.
+  void bisection_grid(double a, double b, int depth, std::vector<double>& out) const {
+    if (b - a > precision_ && depth < kMaxDepth) {
+      const double m = 0.5 * (a + b);
+      bisection_grid(a, m, depth + 1, out);
+      bisection_grid(m, b, depth + 1, out);
+    } else {
+      out.push_back(b);
+    }
+  }
+  static constexpr int kMaxDepth = 16;  // 65537 points: far finer than any search needs
+
   static AxisLimit finish(AxisLimit out, std::optional<double> safe, std::optional<double> fail,
                           FailureMode fail_mode) {
     out.at_ceiling = !fail;
@@ -112,6 +184,8 @@ class AxisSearch {
   double min_, max_, precision_;
   ProbeFn probe_;
   bool seeded_ = true;
+  BatchFn batch_;
+  int k_ = 1;
 };
 
 // How far up its search range a limit sits, in [0, 1].
@@ -202,7 +276,52 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
       return ProbeVerdict{r.outcome == Outcome::failed, probe.mode};
     };
   };
+  if (s.parallel_probes < 0) {
+    return Result<Envelope>::failure(
+        "/search/parallel_probes",
+        "must be 0 (one per free core), 1 (serial bisection) or more, not " +
+            std::to_string(s.parallel_probes));
+  }
+  const int k = s.parallel_probes == 0 ? std::max(1, int(std::thread::hardware_concurrency()))
+                                       : s.parallel_probes;
+  std::optional<std::string> batch_error;
+  // k probes of one axis in one batched call on k workers (bitwise the serial probes).
+  auto batch_prober = [&](Axis axis, std::function<ConveyorProfile(double)> make) {
+    return [&, axis,
+            make](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
+      std::vector<ConveyorProfile> profiles;
+      for (double x : xs) profiles.push_back(make(x));
+      auto runs = run_probes_batched(simulator.scene(), rest, profiles, o, k);
+      if (!runs) {
+        batch_error =
+            std::string(to_string(axis)) + " probes: " +
+            (runs.diagnostics.empty() ? std::string("unknown error") : runs.diagnostics[0].message);
+        return std::nullopt;
+      }
+      std::vector<ProbeVerdict> verdicts;
+      for (std::size_t t = 0; t < xs.size(); ++t) {
+        const SimResult& r = (*runs.value)[t];
+        Probe probe{axis,
+                    xs[t],
+                    r.outcome,
+                    r.failure ? r.failure->mode : FailureMode::no_failure,
+                    r.failure ? r.failure->time_s : 0.0,
+                    r.wall_ms};
+        env.probes.push_back(probe);
+        if (r.outcome == Outcome::unstable && !unstable) {
+          unstable =
+              std::string(to_string(axis)) + " probe at " + fixed(xs[t], 3) + ": " + r.reason;
+        }
+        verdicts.push_back(ProbeVerdict{r.outcome == Outcome::failed, probe.mode});
+      }
+      if (unstable) return std::nullopt;
+      return verdicts;
+    };
+  };
   auto fail_unstable = [&]() {
+    if (batch_error) {
+      return Result<Envelope>::failure("", "the batched probes could not run: " + *batch_error);
+    }
     return Result<Envelope>::failure(
         "", "the simulation became numerically unstable, so no verdict is given: " + *unstable);
   };
@@ -210,24 +329,32 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   const QuasiStaticLimit along = bounds.weakest_along();
   const QuasiStaticLimit across = bounds.weakest_across();
   // Quasi-static onset is a lower bound of failure in a probe of finite length: seed just above.
-  auto accel = AxisSearch(s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-                          prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }),
-                          s.seed_with_closed_form)
-                   .run(along.accel_mps2 + s.accel_precision_mps2);
+  auto accel =
+      AxisSearch(s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
+                 prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }),
+                 s.seed_with_closed_form,
+                 batch_prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }), k)
+          .run(along.accel_mps2 + s.accel_precision_mps2);
   if (!accel) return fail_unstable();
   env.accel = *accel;
   auto decel =
       AxisSearch(
           s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
           prober(Axis::decel, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }),
-          s.seed_with_closed_form)
+          s.seed_with_closed_form,
+          batch_prober(Axis::decel,
+                       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }),
+          k)
           .run(along.accel_mps2 + s.decel_precision_mps2);
   if (!decel) return fail_unstable();
   env.decel = *decel;
   auto lateral =
-      AxisSearch(s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-                 prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
-                 s.seed_with_closed_form)
+      AxisSearch(
+          s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
+          prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
+          s.seed_with_closed_form,
+          batch_prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
+          k)
           .run(across.accel_mps2 / kGravity + s.lateral_precision_g);
   if (!lateral) return fail_unstable();
   env.lateral = *lateral;
@@ -243,9 +370,11 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                    slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
   }
   auto stop =
-      AxisSearch(s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps,
-                 prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }),
-                 s.seed_with_closed_form)
+      AxisSearch(
+          s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps,
+          prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }),
+          s.seed_with_closed_form,
+          batch_prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }), k)
           .run(speed_seed);
   if (!stop) return fail_unstable();
   env.speed = *stop;

@@ -11,6 +11,7 @@
 #include "core/scene.hpp"
 #include "core/simulate.hpp"
 #include "test_friction.hpp"
+#include "test_pallets.hpp"
 
 using namespace pb;
 
@@ -35,11 +36,8 @@ struct Settled {
   QuasiStaticBounds bounds;
 };
 
-std::unique_ptr<Settled> settle(const Item& item, const test::ConstantMu& mu,
+std::unique_ptr<Settled> settle(const PalletConfig& config, const test::ConstantMu& mu,
                                 const SceneOptions& options = {}) {
-  PalletConfig config;
-  config.wrap = WrapType::none;
-  config.items = {item};
   auto scene = build_scene(config, options, test::constant_friction(mu));
   if (!scene) qFatal("scene: %s", to_string(scene.diagnostics[0]).c_str());
   auto out = std::make_unique<Settled>();
@@ -52,6 +50,11 @@ std::unique_ptr<Settled> settle(const Item& item, const test::ConstantMu& mu,
   out->rest = std::move(*rest.value);
   out->bounds = quasi_static_bounds(out->scene->config, out->scene->friction);
   return out;
+}
+
+std::unique_ptr<Settled> settle(const Item& item, const test::ConstantMu& mu,
+                                const SceneOptions& options = {}) {
+  return settle(test::pallet({item}), mu, options);
 }
 
 // How far a load slides on its support in a probe that accelerates the support at `a` for `t`
@@ -326,6 +329,99 @@ class EnvelopeTest : public QObject {
                  "the simulation became numerically unstable, so no verdict is given: accel "
                  "probe at "),
              env.diagnostics[0].message.c_str());
+  }
+  // k-section (parallel_probes k > 1: k probes of the bisection grid per round, one batched call)
+  // finds bitwise the same limits and modes as serial bisection (k = 1) when failure is monotone:
+  // a stack of two cartons that slides and a tall carton that tips.
+  void kSectionMatchesBisection() {
+    const std::pair<PalletConfig, test::ConstantMu> pallets[] = {
+        {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
+        {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
+    };
+    for (const auto& [config, mu] : pallets) {
+      auto s = settle(config, mu);
+      auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+      QVERIFY2(serial.ok(), serial.ok() ? "" : to_string(serial.diagnostics[0]).c_str());
+      // The start-up limit is bracketed inside its range, so rounds of k-section do run.
+      QVERIFY2(!serial->accel.at_ceiling && !serial->accel.at_floor, describe(serial->accel));
+      for (const int k : {2, 3}) {
+        SearchConfig parallel = search_;
+        parallel.parallel_probes = k;
+        auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, parallel);
+        QVERIFY2(env.ok(), env.ok() ? "" : to_string(env.diagnostics[0]).c_str());
+        const std::pair<const AxisLimit*, const AxisLimit*> axes[] = {
+            {&serial->accel, &env->accel},
+            {&serial->decel, &env->decel},
+            {&serial->lateral, &env->lateral},
+            {&serial->speed, &env->speed}};
+        for (const auto& [a, b] : axes) {
+          QVERIFY2(a->limit == b->limit, describe(*a) + " vs k-section " + describe(*b));
+          QCOMPARE(b->mode, a->mode);
+          QCOMPARE(b->at_ceiling, a->at_ceiling);
+          QCOMPARE(b->at_floor, a->at_floor);
+        }
+        QCOMPARE(env->result.verdict, serial->result.verdict);
+        QCOMPARE(env->result.max_speed_mps, serial->result.max_speed_mps);
+        QCOMPARE(env->result.dominant_failure_mode, serial->result.dominant_failure_mode);
+        // Every probe run is kept and counted.
+        QCOMPARE(env->result.sims_run, static_cast<int>(env->probes.size()));
+        QCOMPARE(env->result.sims_run,
+                 env->accel.probes + env->decel.probes + env->lateral.probes + env->speed.probes);
+        // Monotone: every probe above an axis limit failed, every one at or below it was safe.
+        for (const Probe& p : env->probes) {
+          const AxisLimit& limit = p.axis == Axis::accel     ? env->accel
+                                   : p.axis == Axis::decel   ? env->decel
+                                   : p.axis == Axis::lateral ? env->lateral
+                                                             : env->speed;
+          QCOMPARE(p.outcome == Outcome::failed, limit.at_floor || p.value > limit.limit);
+        }
+      }
+    }
+  }
+
+  // The plain (unseeded) search is k-sectioned from its first probe: same limits as bisection.
+  void kSectionOfPlainSearchMatchesBisection() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    plain.parallel_probes = 3;
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(serial.ok() && env.ok());
+    QVERIFY2(serial->accel.limit == env->accel.limit, describe(env->accel));
+    QVERIFY2(serial->lateral.limit == env->lateral.limit, describe(env->lateral));
+    QCOMPARE(env->accel.mode, serial->accel.mode);
+    QVERIFY(env->speed.at_ceiling);
+    // 4.9 m/s^2 to 0.1: the bisection grid has 65 points; 3 probes a round take 3 rounds (64 ->
+    // 16 -> 4 -> 1 intervals): 9 probes for bisection's 6, in half the rounds.
+    QCOMPARE(env->accel.probes, 9);
+  }
+
+  // An unstable probe inside a batched round still makes the envelope fail with its reason; a
+  // negative k is refused, naming the field.
+  void kSectionUnstableProbeAndBadK() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    SceneOptions unstable;
+    unstable.belt_kv_ratio = 4.0;
+    auto scene = build_scene(s->scene->config, unstable, test::constant_friction({1.0, 0.3, 0.4}));
+    QVERIFY(scene.ok());
+    auto sim = Simulator::create(*scene);
+    QVERIFY(sim.ok());
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;  // the first probes are a batched round
+    plain.parallel_probes = 2;
+    auto env = search_envelope(*sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(!env.ok());
+    QVERIFY2(env.diagnostics[0].message.starts_with(
+                 "the simulation became numerically unstable, so no verdict is given: accel "
+                 "probe at "),
+             env.diagnostics[0].message.c_str());
+
+    SearchConfig bad = search_;
+    bad.parallel_probes = -1;
+    auto refused = search_envelope(*s->sim, s->rest, s->bounds, line_, bad);
+    QVERIFY(!refused.ok());
+    QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/parallel_probes"));
   }
 };
 
