@@ -31,7 +31,7 @@ struct AnalyzerOptions {
   Fidelity fidelity = Fidelity::automatic;
   /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
   /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
-  UncertaintyOptions confidence = {.samples = 0};
+  UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
 };
 
 /// A compiled, settled pallet: everything a probe needs.

@@ -75,19 +75,19 @@ Result<UncertaintyResult> failure_probability(const Scene& scene, const RestStat
     if (!mass) return mass.diagnostics.front().message;
     auto inertia = batch.expand("body_inertia");
     if (!inertia) return inertia.diagnostics.front().message;
-    for (int sim = 0; sim < M * P; ++sim) {
-      const int s = sim / P;
+    for (int row = 0; row < M * P; ++row) {
+      const int s = row / P;
       for (int p = 0; p < m.npair; ++p) {
         const double f = pair_factor[std::size_t(s * m.npair + p)];
         for (int k = 0; k < 5; ++k)
-          (*friction.value)(sim, 5 * p + k) = m.pair_friction[5 * p + k] * f;
+          (*friction.value)(row, 5 * p + k) = m.pair_friction[5 * p + k] * f;
       }
       for (std::size_t i = 0; i < items.size(); ++i) {
         const int b = items[i];
         const double f = mass_factor[std::size_t(s) * items.size() + i];
-        (*mass.value)(sim, b) = m.body_mass[b] * f;
+        (*mass.value)(row, b) = m.body_mass[b] * f;
         for (int k = 0; k < 3; ++k)
-          (*inertia.value)(sim, 3 * b + k) = m.body_inertia[3 * b + k] * f;
+          (*inertia.value)(row, 3 * b + k) = m.body_inertia[3 * b + k] * f;
       }
     }
     // MuJoCo 2.2 takes a free body's inertia from dof_M0 (mj_setConst): without this a heavier
