@@ -42,7 +42,7 @@ struct ProbeVerdict {
 // bisect to the precision. Failure is assumed monotone along the axis. With a batch function and
 // k > 1 the bracket is narrowed by k-section instead: each round probes k points of the bisection
 // grid of the bracket at once (one batched call), so rounds drop from log2 n to log_{k+1} n; the
-// walk that brackets the boundary stays serial.
+// walk that brackets the boundary takes its next k points per round.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
@@ -86,6 +86,16 @@ class AxisSearch {
       record(x, *v);
       return v->failed;
     };
+    // One batched round: every verdict recorded; nullopt when a probe was unstable.
+    auto round = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
+      auto verdicts = batch_(xs);
+      if (!verdicts) {
+        out.probes += int(xs.size());
+        return std::nullopt;
+      }
+      for (std::size_t t = 0; t < xs.size(); ++t) record(xs[t], (*verdicts)[t]);
+      return verdicts;
+    };
     // k-section over the points bisection of [a, b] could probe (a and b known already).
     auto k_section = [&](double a, double b) -> bool {
       std::vector<double> grid{a};
@@ -100,14 +110,10 @@ class AxisSearch {
         }
         std::vector<double> xs;
         for (std::size_t n : idx) xs.push_back(grid[n]);
-        auto verdicts = batch_(xs);
-        if (!verdicts) {
-          out.probes += int(xs.size());
-          return false;
-        }
+        auto verdicts = round(xs);
+        if (!verdicts) return false;
         std::size_t new_j = j, new_i = i;
         for (std::size_t t = 0; t < idx.size(); ++t) {
-          record(xs[t], (*verdicts)[t]);
           if ((*verdicts)[t].failed && new_j == j) new_j = idx[t];
         }
         for (std::size_t t = 0; t < idx.size(); ++t) {
@@ -137,7 +143,30 @@ class AxisSearch {
     auto r = test(first);
     if (!r) return std::nullopt;
     double step = precision_;
-    if (*r) {  // failed: walk down
+    if (sectioned) {
+      // The walk in rounds of the next k points the serial walk would probe (the range's end
+      // last, when the walk reaches it): under monotone failure the first failing (walking up)
+      // or safe (walking down) one is where the serial walk stops, so the bracket is the same.
+      const bool up = !*r;
+      while (up ? !fail : !safe) {
+        std::vector<double> xs;
+        bool last = false;
+        for (double from = up ? *safe : *fail; int(xs.size()) < k_;) {
+          const double x = up ? from + step : from - step;
+          if (up ? x < max_ : x > min_) {
+            xs.push_back(x);
+            from = x;
+            step *= 2;
+          } else {
+            if (up ? first < max_ : first > min_) xs.push_back(up ? max_ : min_);
+            last = true;
+            break;
+          }
+        }
+        if (!xs.empty() && !round(xs)) return std::nullopt;
+        if (last) break;
+      }
+    } else if (*r) {  // failed: walk down
       for (double x = first - step; !safe && x > min_; step *= 2, x = *fail - step) {
         if (!test(x)) return std::nullopt;
       }

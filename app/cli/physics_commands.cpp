@@ -234,6 +234,12 @@ AnalyzerOptions analyze_options(const Args& args) {
                                          search.speed_min_mps, 5.0, "m/s");
   search.accel_max_mps2 = option_in_range(args, "analyze", "accel-max", search.accel_max_mps2,
                                           search.accel_min_mps2, 10.0, "m/s^2");
+  if (auto k = args.integer("parallel-probes")) {
+    if (*k < 0 || *k > 64) {
+      throw UsageError{"analyze: --parallel-probes must be 0 (one per CPU) to 64"};
+    }
+    search.parallel_probes = int(*k);
+  }
   o.fidelity = fidelity_option(args, "analyze");
   return o;
 }
@@ -532,7 +538,10 @@ std::vector<Command> physics_commands() {
           "file's search is then run, repeated pallets included"},
          {"fidelity", "LEVEL",
           enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "
-                                     "agreement with the full model is established)"}},
+                                     "agreement with the full model is established)"},
+         {"parallel-probes", "K",
+          "probes per search round (k-section, batched on K threads; same limits); 1 = serial "
+          "bisection (default), 0 = one per CPU"}},
         1,
         1000000},
        run_analyze},
