@@ -41,8 +41,6 @@ Command map_command();
 Json failure_map_json(const FailureMap& map);
 /// batch: the batch study of random pallets (app/cli/batch_command.cpp).
 Command batch_command();
-/// batch: the batch study of random pallets (app/cli/batch_command.cpp).
-Command batch_command();
 
 /// `bench batch`: the batch engine's scaling table (app/cli/bench_command.cpp).
 int run_bench_batch(const Args& args);
