@@ -19,14 +19,16 @@ struct Run {
   QJsonDocument json() const { return QJsonDocument::fromJson(out); }
 };
 
-inline Run cli(const QStringList& args, const QByteArray& stdin_data = {}) {
+/// Runs the CLI; a run still going after `timeout_ms` is killed (exit_code -1).
+inline Run cli(const QStringList& args, const QByteArray& stdin_data = {},
+               int timeout_ms = 120000) {
   QProcess p;
   p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
   p.setArguments(args);
   p.start();
   if (!stdin_data.isEmpty()) p.write(stdin_data);
   p.closeWriteChannel();
-  if (!p.waitForFinished(120000)) {
+  if (!p.waitForFinished(timeout_ms)) {
     p.kill();
     p.waitForFinished();
   }

@@ -8,7 +8,6 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
-#include <QProcess>
 #include <QTemporaryDir>
 #include <QtTest>
 
@@ -37,20 +36,7 @@ constexpr const char* kConvergenceScenario = "asymmetric-load";
 
 // cli() with a longer patience: the reference at 0.25 ms takes minutes on a loaded machine.
 Run slow_cli(const QStringList& args) {
-  QProcess p;
-  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
-  p.setArguments(args);
-  p.start();
-  p.closeWriteChannel();
-  if (!p.waitForFinished(1200000)) {
-    p.kill();
-    p.waitForFinished();
-  }
-  Run r;
-  r.exit_code = p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
-  r.out = p.readAllStandardOutput();
-  r.err = p.readAllStandardError();
-  return r;
+  return cli(args, {}, 1200000);
 }
 
 QJsonObject by_config(const QJsonArray& rows, const QString& name) {
