@@ -26,6 +26,15 @@ void Analyzer::clear_cache() {
   results_.clear();
 }
 
+SceneOptions Analyzer::scene_options_for(Fidelity level) const {
+  SceneOptions o = options_.scene;
+  o.merge_wrapped = level == Fidelity::reduced;
+  if (level != Fidelity::reduced && options_.full_model_timestep_s) {
+    o.timestep_s = *options_.full_model_timestep_s;
+  }
+  return o;
+}
+
 Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   const std::string key = config_fingerprint(config);
   if (auto it = prepared_.find(key); it != prepared_.end()) {
@@ -45,9 +54,12 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
                                options_.sim.thresholds, options_.fidelity);
     }
   }
-  SceneOptions scene_options = options_.scene;
-  scene_options.merge_wrapped = choice.level == Fidelity::reduced;
-  auto scene = build_scene(config, scene_options, *friction_);
+  // A reduced request that finds nothing to merge is the full model, at the full model's numerics.
+  auto scene = build_scene(config, scene_options_for(choice.level), *friction_);
+  if (scene && choice.level == Fidelity::reduced && !scene.value->layout.merged) {
+    choice = {Fidelity::full, "nothing to merge"};
+    scene = build_scene(config, scene_options_for(choice.level), *friction_);
+  }
   if (!scene) return Result<PreparedPallet*>::failure(std::move(scene.diagnostics));
   auto prepared = std::make_unique<PreparedPallet>();
   prepared->fingerprint = key;
@@ -59,9 +71,6 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   if (!rest) return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
   prepared->rest = std::move(*rest.value);
   prepared->bounds = quasi_static_bounds(config, prepared->scene->friction);
-  if (choice.level == Fidelity::reduced && !prepared->scene->layout.merged) {
-    choice = {Fidelity::full, "nothing to merge"};
-  }
   prepared->fidelity = std::move(choice);
   prepared->prepare_ms = ms_since(start);
   PreparedPallet* out = prepared.get();

@@ -29,6 +29,13 @@ struct AnalyzerOptions {
   /// Which model answers (reported in SafetyResult::fidelity); automatic = the cheapest level
   /// whose agreement with the full model is established for pallets of that kind.
   Fidelity fidelity = Fidelity::automatic;
+  /// The full model's own timestep (the numerics are part of a level): where the full model runs
+  /// it steps at this, the reduced model at scene.timestep_s. 1 ms because the full model of an
+  /// unwrapped load at 2 ms lands 1.2-1.7 search steps from the reference configuration on the
+  /// tall and top-heavy scenarios (on both sides: a stop limit above the reference's), at 1 ms
+  /// within 0.77 (core/README.md, `study speed-accuracy`). nullopt: scene.timestep_s for every
+  /// level (what the study's fixed-timestep configurations and the reference use).
+  std::optional<double> full_model_timestep_s = 0.001;
   /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
   /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
   UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
@@ -78,6 +85,9 @@ class Analyzer {
   void clear_cache();
 
  private:
+  /// The scene numerics of a model level (merge for reduced; the full model's own timestep).
+  SceneOptions scene_options_for(Fidelity level) const;
+
   AnalyzerOptions options_;
   const FrictionModel* friction_;
   std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;

@@ -96,9 +96,9 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
 
 /// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
 /// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance
-/// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". Below what a
-/// ramp probe measures (it allows a finite slide) but above what a step load (an e-stop, a curve's
-/// onset) allows a tall load that rocks: an estimate, not a bound.
+/// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". An
+/// estimate, not a bound: a probe allows a finite slide (above the onset) but its onset is a step
+/// load that a tall load can rock under (below it), and which wins depends on the load.
 Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line = {},
                               const SearchConfig& search = {},
                               const DetectorThresholds& thresholds = {});

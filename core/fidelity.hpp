@@ -40,9 +40,8 @@ struct FidelityChoice {
 /// within one search step on the wrapped curated scenarios: core/README.md, fidelity_test);
 /// otherwise the full model (an unwrapped load, or a wrap too soft for its items). The
 /// closed-form level is never chosen automatically: a quasi-static onset is not within one search
-/// step of the probed limit (a ramp probe allows a finite slide: the onset is below it; a step
-/// load such as an e-stop makes a tall load rock past its static tip angle: the onset is above
-/// it, by 0.2 m/s^2 for a five-carton tower in fidelity_test).
+/// step of the reference's limits (1.5-2.3 steps on the top-heavy and asymmetric scenarios, either
+/// side: core/README.md, `study speed-accuracy`).
 /// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
 /// is the full model: nothing can be merged).
 FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,

