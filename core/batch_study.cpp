@@ -50,9 +50,12 @@ Result<BatchStudy> run_batch_study(const BatchStudyOptions& o, const Catalog& ca
   int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   threads = std::min(threads, n);
   AnalyzerOptions analyzer_options = o.analyzer;
-  // Each worker is already one of T threads: its own batched runs (confidence) stay on it.
+  // Each worker is already one of T threads: its axes and its batched runs (confidence) stay on it.
   if (threads > 1 && analyzer_options.confidence.threads == 0) {
     analyzer_options.confidence.threads = 1;
+  }
+  if (threads > 1 && analyzer_options.search.axis_threads == 0) {
+    analyzer_options.search.axis_threads = 1;
   }
 
   BatchStudy study;

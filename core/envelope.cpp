@@ -5,9 +5,11 @@
 #include "core/text.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -277,6 +279,81 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
 void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
 }  // namespace
 
+namespace {
+
+// One axis's search, independent of the others: what it found, the probes it ran, and why it
+// stopped if a probe was unstable or the batched probes could not run.
+struct AxisTask {
+  Axis axis = Axis::accel;
+  double lo = 0.0, hi = 0.0, precision = 0.0;
+  double seed = 0.0;
+  std::function<ConveyorProfile(double)> profile;
+};
+
+struct AxisOutcome {
+  std::optional<AxisLimit> limit;
+  std::vector<Probe> probes;
+  std::optional<std::string> unstable;
+  std::optional<std::string> batch_error;
+};
+
+Probe make_probe(Axis axis, double x, const SimResult& r) {
+  return Probe{axis,
+               x,
+               r.outcome,
+               r.failure ? r.failure->mode : FailureMode::no_failure,
+               r.failure ? r.failure->time_s : 0.0,
+               r.wall_ms};
+}
+
+// Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
+AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
+                        const SimOptions& o, bool seeded, int k) {
+  AxisOutcome out;
+  auto unstable_at = [&](double x, const SimResult& r) {
+    if (!out.unstable) {
+      out.unstable = std::string(to_string(t.axis)) + " probe at " + fixed(x, 3) + ": " + r.reason;
+    }
+  };
+  auto probe = [&](double x) -> std::optional<ProbeVerdict> {
+    const SimResult r = simulator.run(rest, t.profile(x), o);
+    out.probes.push_back(make_probe(t.axis, x, r));
+    if (r.outcome == Outcome::unstable) {
+      unstable_at(x, r);
+      return std::nullopt;
+    }
+    return ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode};
+  };
+  auto batch = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
+    std::vector<ConveyorProfile> profiles;
+    for (double x : xs) profiles.push_back(t.profile(x));
+    auto runs = run_probes_batched(simulator.scene(), rest, profiles, o, k);
+    if (!runs) {
+      out.batch_error =
+          std::string(to_string(t.axis)) + " probes: " +
+          (runs.diagnostics.empty() ? std::string("unknown error") : runs.diagnostics[0].message);
+      return std::nullopt;
+    }
+    std::vector<ProbeVerdict> verdicts;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const SimResult& r = (*runs.value)[i];
+      out.probes.push_back(make_probe(t.axis, xs[i], r));
+      if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
+      verdicts.push_back(ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode});
+    }
+    if (out.unstable) return std::nullopt;
+    return verdicts;
+  };
+  out.limit = AxisSearch(t.lo, t.hi, t.precision, probe, seeded, batch, k).run(t.seed);
+  return out;
+}
+
+int resolved_threads(int requested) {
+  return requested == 0 ? std::max(1, int(std::thread::hardware_concurrency())) : requested;
+}
+
+}  // namespace
+
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& s, const SimOptions& sim_options) {
@@ -286,108 +363,22 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   SimOptions o = sim_options;
   o.record_trace = false;
   o.fail_fast = true;
-  std::optional<std::string> unstable;
-
-  auto prober = [&](Axis axis, std::function<ConveyorProfile(double)> make) {
-    return [&, axis, make](double x) -> std::optional<ProbeVerdict> {
-      SimResult r = simulator.run(rest, make(x), o);
-      Probe probe{axis,
-                  x,
-                  r.outcome,
-                  r.failure ? r.failure->mode : FailureMode::no_failure,
-                  r.failure ? r.failure->time_s : 0.0,
-                  r.wall_ms};
-      env.probes.push_back(probe);
-      if (r.outcome == Outcome::unstable) {
-        unstable = std::string(to_string(axis)) + " probe at " + fixed(x, 3) + ": " + r.reason;
-        return std::nullopt;
-      }
-      return ProbeVerdict{r.outcome == Outcome::failed, probe.mode};
-    };
-  };
   if (s.parallel_probes < 0) {
     return Result<Envelope>::failure(
         "/search/parallel_probes",
         "must be 0 (one per free core), 1 (serial bisection) or more, not " +
             std::to_string(s.parallel_probes));
   }
-  const int k = s.parallel_probes == 0 ? std::max(1, int(std::thread::hardware_concurrency()))
-                                       : s.parallel_probes;
-  std::optional<std::string> batch_error;
-  // k probes of one axis in one batched call on k workers (bitwise the serial probes).
-  auto batch_prober = [&](Axis axis, std::function<ConveyorProfile(double)> make) {
-    return [&, axis,
-            make](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
-      std::vector<ConveyorProfile> profiles;
-      for (double x : xs) profiles.push_back(make(x));
-      auto runs = run_probes_batched(simulator.scene(), rest, profiles, o, k);
-      if (!runs) {
-        batch_error =
-            std::string(to_string(axis)) + " probes: " +
-            (runs.diagnostics.empty() ? std::string("unknown error") : runs.diagnostics[0].message);
-        return std::nullopt;
-      }
-      std::vector<ProbeVerdict> verdicts;
-      for (std::size_t t = 0; t < xs.size(); ++t) {
-        const SimResult& r = (*runs.value)[t];
-        Probe probe{axis,
-                    xs[t],
-                    r.outcome,
-                    r.failure ? r.failure->mode : FailureMode::no_failure,
-                    r.failure ? r.failure->time_s : 0.0,
-                    r.wall_ms};
-        env.probes.push_back(probe);
-        if (r.outcome == Outcome::unstable && !unstable) {
-          unstable =
-              std::string(to_string(axis)) + " probe at " + fixed(xs[t], 3) + ": " + r.reason;
-        }
-        verdicts.push_back(ProbeVerdict{r.outcome == Outcome::failed, probe.mode});
-      }
-      if (unstable) return std::nullopt;
-      return verdicts;
-    };
-  };
-  auto fail_unstable = [&]() {
-    if (batch_error) {
-      return Result<Envelope>::failure("", "the batched probes could not run: " + *batch_error);
-    }
+  if (s.axis_threads < 0) {
     return Result<Envelope>::failure(
-        "", "the simulation became numerically unstable, so no verdict is given: " + *unstable);
-  };
+        "/search/axis_threads",
+        "must be 0 (one per logical CPU, at most 4), 1 (one axis after another) or more, not " +
+            std::to_string(s.axis_threads));
+  }
+  const int k = resolved_threads(s.parallel_probes);
 
   const QuasiStaticLimit along = bounds.weakest_along();
   const QuasiStaticLimit across = bounds.weakest_across();
-  // Quasi-static onset is a lower bound of failure in a probe of finite length: seed just above.
-  auto accel =
-      AxisSearch(s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-                 prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }),
-                 s.seed_with_closed_form,
-                 batch_prober(Axis::accel, [&](double a) { return accel_probe_profile(a, s); }), k)
-          .run(along.accel_mps2 + s.accel_precision_mps2);
-  if (!accel) return fail_unstable();
-  env.accel = *accel;
-  auto decel =
-      AxisSearch(
-          s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
-          prober(Axis::decel, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }),
-          s.seed_with_closed_form,
-          batch_prober(Axis::decel,
-                       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }),
-          k)
-          .run(along.accel_mps2 + s.decel_precision_mps2);
-  if (!decel) return fail_unstable();
-  env.decel = *decel;
-  auto lateral =
-      AxisSearch(
-          s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-          prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
-          s.seed_with_closed_form,
-          batch_prober(Axis::lateral, [&](double g) { return lateral_probe_profile(g, line, s); }),
-          k)
-          .run(across.accel_mps2 / kGravity + s.lateral_precision_g);
-  if (!lateral) return fail_unstable();
-  env.lateral = *lateral;
-
   // Speed: the fastest speed from which the line's e-stop is survived. Below the quasi-static
   // bound nothing slides and any speed is safe; above it the slide grows with v^2.
   double speed_seed = s.speed_max_mps;
@@ -398,15 +389,65 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                      : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
                                    slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
   }
-  auto stop =
-      AxisSearch(
-          s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps,
-          prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }),
-          s.seed_with_closed_form,
-          batch_prober(Axis::speed, [&](double v) { return stop_probe_profile(v, line, s); }), k)
-          .run(speed_seed);
-  if (!stop) return fail_unstable();
-  env.speed = *stop;
+  // Each axis is seeded just above its quasi-static onset and searched on its own.
+  const std::vector<AxisTask> tasks{
+      {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
+       along.accel_mps2 + s.accel_precision_mps2,
+       [&](double a) { return accel_probe_profile(a, s); }},
+      {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
+       along.accel_mps2 + s.decel_precision_mps2,
+       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
+      {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
+       across.accel_mps2 / kGravity + s.lateral_precision_g,
+       [&](double g) { return lateral_probe_profile(g, line, s); }},
+      {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed,
+       [&](double v) { return stop_probe_profile(v, line, s); }},
+  };
+  std::vector<AxisOutcome> outcomes(tasks.size());
+  const int threads =
+      std::min({resolved_threads(s.axis_threads), 4, int(tasks.size())});
+  if (threads <= 1) {
+    for (std::size_t i = 0; i < tasks.size(); ++i) {
+      outcomes[i] = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k);
+      if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
+    }
+  } else {
+    // Axes are independent: each worker takes the next axis on its own mjData (a probe loads the
+    // whole rest state, so it is bitwise the probe the serial search runs).
+    std::vector<std::unique_ptr<Simulator>> extra;
+    for (int w = 1; w < threads; ++w) {
+      auto created = Simulator::create(simulator.scene());
+      if (!created) return Result<Envelope>::failure(std::move(created.diagnostics));
+      extra.push_back(std::make_unique<Simulator>(std::move(*created.value)));
+    }
+    std::atomic<std::size_t> next{0};
+    auto work = [&](Simulator& sim) {
+      for (std::size_t i = next++; i < tasks.size(); i = next++) {
+        outcomes[i] = search_axis(tasks[i], sim, rest, o, s.seed_with_closed_form, k);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (auto& sim : extra) pool.emplace_back(work, std::ref(*sim));
+    work(simulator);
+    for (auto& t : pool) t.join();
+  }
+  // Probes in axis order whatever the threads did; the first axis in that order that failed names
+  // the reason.
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    AxisOutcome& a = outcomes[i];
+    env.probes.insert(env.probes.end(), a.probes.begin(), a.probes.end());
+    if (a.limit) continue;
+    if (a.batch_error) {
+      return Result<Envelope>::failure("", "the batched probes could not run: " + *a.batch_error);
+    }
+    return Result<Envelope>::failure(
+        "", "the simulation became numerically unstable, so no verdict is given: " +
+                a.unstable.value_or(std::string(to_string(tasks[i].axis)) + " search stopped"));
+  }
+  env.accel = *outcomes[0].limit;
+  env.decel = *outcomes[1].limit;
+  env.lateral = *outcomes[2].limit;
+  env.speed = *outcomes[3].limit;
   summarise(env, line, s);
   stamp_sims_and_time(env, start);
   return Result<Envelope>{std::move(env), {}};

@@ -45,6 +45,11 @@ struct SearchConfig {
   /// simulations. Measured on 2 cores: ~10 % less wall time at k = 2 for ~25 % more CPU, so the
   /// default stays serial (and batch studies, which already fill every core, keep 1).
   int parallel_probes = 1;
+  /// Threads that search the four axes (start-up, stop, curve, e-stop speed) side by side, each on
+  /// its own mjData; 0 = one per logical CPU (at most 4), 1 = one axis after another. The same
+  /// probes and limits either way (each probe loads the whole rest state); the wall time drops to
+  /// that of the slowest axis chain. Batch studies, which fill every core with pallets, use 1.
+  int axis_threads = 0;
 
   bool operator==(const SearchConfig&) const = default;
 };

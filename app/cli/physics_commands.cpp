@@ -210,7 +210,12 @@ int run_solve(const Args& args) {
     return exit_code_for(solve.diagnostics);
   }
   if (replay_file) *replay_file << replay_to_json(solve->replay).dump() << "\n";
-  print_json(solve_json(solve->sim, profile));
+  Json out = solve_json(solve->sim, profile);
+  if (auto prepared = analyzer.prepare(input->pallet)) {  // cached: the model that ran
+    out["fidelity"] = to_string((*prepared.value)->fidelity.level);
+    out["timestep_s"] = (*prepared.value)->scene->options.timestep_s;
+  }
+  print_json(out);
   if (solve->sim.outcome == Outcome::unstable) {
     std::cerr << "palletballet-cli solve: the simulation became numerically unstable, so there is "
                  "no verdict: "

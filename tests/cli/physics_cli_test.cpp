@@ -212,8 +212,10 @@ class PhysicsCliTest : public QObject {
     // Co-moving after the ramp: nothing can change, so the run stops before the 2 s.
     QCOMPARE(o.value(QStringLiteral("stopped_early")).toBool(), true);
     QVERIFY(num(o, "sim_time_s") >= 1.0 && num(o, "sim_time_s") < 2.0);
+    QCOMPARE(str(o, "fidelity"), QStringLiteral("full"));  // unwrapped: the full model, at 1 ms
+    QCOMPARE(num(o, "timestep_s"), 0.001);
     QCOMPARE(o.value(QStringLiteral("steps")).toInt(),
-             static_cast<int>(std::lround(num(o, "sim_time_s") / 0.002)));
+             static_cast<int>(std::lround(num(o, "sim_time_s") / num(o, "timestep_s"))));
     auto replay = pb::replay_from_json(
         *pb::parse_json(read_file(dir.filePath(QStringLiteral("r.json"))).toStdString()));
     QVERIFY(replay.ok());

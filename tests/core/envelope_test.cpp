@@ -423,6 +423,48 @@ class EnvelopeTest : public QObject {
     QVERIFY(!refused.ok());
     QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/parallel_probes"));
   }
+
+  // The axes searched side by side (axis_threads) run bitwise the probes of one axis after
+  // another, reported in axis order: a sliding two-carton stack and a tall carton that tips.
+  void axisThreadsRunTheSameProbes() {
+    const std::pair<PalletConfig, test::ConstantMu> pallets[] = {
+        {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
+        {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
+    };
+    for (const auto& [config, mu] : pallets) {
+      auto s = settle(config, mu);
+      SearchConfig one = search_;
+      one.axis_threads = 1;
+      auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, one);
+      QVERIFY(serial.ok());
+      for (const int threads : {2, 4}) {
+        SearchConfig side_by_side = search_;
+        side_by_side.axis_threads = threads;
+        auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side);
+        QVERIFY(env.ok());
+        QCOMPARE(env->probes.size(), serial->probes.size());
+        for (std::size_t i = 0; i < env->probes.size(); ++i) {
+          const Probe &a = serial->probes[i], &b = env->probes[i];
+          QCOMPARE(b.axis, a.axis);
+          QCOMPARE(b.value, a.value);
+          QCOMPARE(b.outcome, a.outcome);
+          QCOMPARE(b.mode, a.mode);
+          QCOMPARE(b.failure_time_s, a.failure_time_s);
+        }
+        QCOMPARE(env->result.max_accel_mps2, serial->result.max_accel_mps2);
+        QCOMPARE(env->result.max_decel_mps2, serial->result.max_decel_mps2);
+        QCOMPARE(env->result.max_lateral_g, serial->result.max_lateral_g);
+        QCOMPARE(env->result.max_speed_mps, serial->result.max_speed_mps);
+        QCOMPARE(env->result.dominant_failure_mode, serial->result.dominant_failure_mode);
+      }
+    }
+    SearchConfig bad = search_;
+    bad.axis_threads = -1;
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto refused = search_envelope(*s->sim, s->rest, s->bounds, line_, bad);
+    QVERIFY(!refused.ok());
+    QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/axis_threads"));
+  }
 };
 
 QTEST_APPLESS_MAIN(EnvelopeTest)
