@@ -48,10 +48,10 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   if (options_.fidelity != Fidelity::full && options_.fidelity != Fidelity::closed_form) {
     if (auto friction = friction_->for_pallet(config)) {
       const SearchConfig& s = options_.search;
-      choice = choose_fidelity(config, *friction.value,
-                               std::max({s.accel_max_mps2, s.decel_max_mps2,
-                                         s.lateral_max_g * kGravity}),
-                               options_.sim.thresholds, options_.fidelity);
+      choice = choose_fidelity(
+          config, *friction.value,
+          std::max({s.accel_max_mps2, s.decel_max_mps2, s.lateral_max_g * kGravity}),
+          options_.sim.thresholds, options_.fidelity);
     }
   }
   // A reduced request that finds nothing to merge is the full model, at the full model's numerics.
@@ -85,8 +85,8 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     if (has_errors(diags)) return Result<Envelope>::failure(std::move(diags));
     auto friction = friction_->for_pallet(config);
     if (!friction) return Result<Envelope>::failure(std::move(friction.diagnostics));
-    Envelope env = closed_form_envelope(quasi_static_bounds(config, *friction.value),
-                                        options_.line, options_.search, options_.sim.thresholds);
+    Envelope env = closed_form_envelope(quasi_static_bounds(config, *friction.value), options_.line,
+                                        options_.search, options_.sim.thresholds);
     env.result.pallet_id = config.pallet_id;
     env.result.config_hash = config_fingerprint(config);
     env.result.sim_runtime_ms = ms_since(start);

@@ -232,7 +232,62 @@ double slide_speed(double mu, double decel, double distance) {
   return k > 0.0 ? std::sqrt(2.0 * distance / k) : 1e9;
 }
 
+// The belt-relative slide of a load held by Coulomb friction of onset mu_g (m/s^2) when the belt's
+// acceleration steps to `a` for `duration_s` and back to zero: it lags at a - mu g during the
+// step and catches up at mu g after it. (For an e-stop from v, T = v / a, this is slide_speed's
+// v^2 / 2 (1 / (mu g) - 1 / a).)
+double coulomb_slide_m(double mu_g, double a, double duration_s) {
+  if (a <= mu_g || mu_g <= 0.0) return a > mu_g ? 1e9 : 0.0;
+  const double lag = (a - mu_g) * duration_s;
+  return 0.5 * lag * duration_s + lag * lag / (2.0 * mu_g);
+}
+
+// How far a mechanism's slip may travel before its detector fires; 0 for a tip.
+double slide_allowance_m(Mechanism m, const DetectorThresholds& t) {
+  switch (m) {
+    case Mechanism::pallet_slip:
+      return t.pallet_slip_m;
+    case Mechanism::item_slip_on_deck:
+      return t.item_slide_m;
+    case Mechanism::item_slip_on_item:  // its distance to the item below changes as it slides
+      return std::min(t.item_slide_m, t.load_shift_m);
+    case Mechanism::load_tip:
+    case Mechanism::stack_tip:
+      return 0.0;
+  }
+  return 0.0;
+}
+
 }  // namespace
+
+AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
+                            double hi, const std::function<double(double)>& step_duration_s,
+                            const DetectorThresholds& thresholds) {
+  AxisPrediction out{hi, FailureMode::no_failure};
+  for (const QuasiStaticLimit& m : mechanisms) {
+    const double onset = m.accel_mps2 / unit;
+    double at = onset;
+    if (const double allowance = slide_allowance_m(m.mechanism, thresholds); allowance > 0.0) {
+      // The slide grows with the demand for every probe shape (d/da of a ramp to v's slide is
+      // 2 / a^2 > 0; a curve's and a stop's likewise), so bisection finds where it reaches the
+      // allowance.
+      auto slide = [&](double x) {
+        return coulomb_slide_m(m.accel_mps2, x * unit, step_duration_s(x));
+      };
+      if (onset >= hi || slide(hi) < allowance) continue;
+      double a = std::max(onset, lo), b = hi;
+      for (int i = 0; i < 60 && b - a > 1e-9 * hi; ++i) {
+        const double mid = 0.5 * (a + b);
+        (slide(mid) < allowance ? a : b) = mid;
+      }
+      at = b;
+    }
+    if (at < out.value) out = {at, m.mode};
+  }
+  return out;
+}
+
+namespace {}  // namespace
 
 ConveyorProfile accel_probe_profile(double accel, const SearchConfig& s) {
   ConveyorProfile p;
@@ -274,6 +329,24 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
   return p;
 }
 
+AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& s, const DetectorThresholds& thresholds) {
+  AxisPredictions p;
+  p.accel = predict_axis(
+      bounds.along, 1.0, s.accel_min_mps2, s.accel_max_mps2,
+      [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
+  p.decel = predict_axis(
+      bounds.along, 1.0, s.decel_min_mps2, s.decel_max_mps2,
+      [&](double d) { return s.speed_max_mps / d; }, thresholds);
+  p.lateral = predict_axis(
+      bounds.across, kGravity, s.lateral_min_g, s.lateral_max_g,
+      [&](double g) {
+        return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
+      },
+      thresholds);
+  return p;
+}
+
 namespace {
 void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s);
 void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
@@ -287,6 +360,7 @@ struct AxisTask {
   Axis axis = Axis::accel;
   double lo = 0.0, hi = 0.0, precision = 0.0;
   double seed = 0.0;
+  double closed_form = 0.0;  ///< the prediction the seed came from
   std::function<ConveyorProfile(double)> profile;
 };
 
@@ -345,6 +419,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     return verdicts;
   };
   out.limit = AxisSearch(t.lo, t.hi, t.precision, probe, seeded, batch, k).run(t.seed);
+  if (out.limit) out.limit->closed_form = t.closed_form;
   return out;
 }
 
@@ -378,7 +453,6 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   const int k = resolved_threads(s.parallel_probes);
 
   const QuasiStaticLimit along = bounds.weakest_along();
-  const QuasiStaticLimit across = bounds.weakest_across();
   // Speed: the fastest speed from which the line's e-stop is survived. Below the quasi-static
   // bound nothing slides and any speed is safe; above it the slide grows with v^2.
   double speed_seed = s.speed_max_mps;
@@ -389,23 +463,40 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                      : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
                                    slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
   }
-  // Each axis is seeded just above its quasi-static onset and searched on its own.
+  // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
+  // mechanisms are the pallet slipping and the whole load tipping) fails monotonically, so its
+  // search starts where the closed form predicts the probe fails (half a step below, so that an
+  // exact prediction brackets the limit in two probes; at the ceiling when nothing is predicted to
+  // fail in range). A load whose items can slide and rock may fail in bands (tall-unwrapped and
+  // top-heavy loads do): its search walks up from just above the weakest onset, so the first
+  // failure above the onset is the one it finds.
+  const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
+  const auto moves_as_one = [](const std::vector<QuasiStaticLimit>& mechanisms) {
+    return std::all_of(mechanisms.begin(), mechanisms.end(), [](const QuasiStaticLimit& m) {
+      return m.mechanism == Mechanism::pallet_slip || m.mechanism == Mechanism::load_tip;
+    });
+  };
+  const bool one_body = moves_as_one(bounds.along) && moves_as_one(bounds.across);
+  auto seed = [&](const AxisPrediction& p, double onset, double hi, double precision) {
+    if (!one_body) return onset + precision;
+    return p.value >= hi ? hi : p.value - 0.5 * precision;
+  };
+  const double onset_across = bounds.weakest_across().accel_mps2 / kGravity;
   const std::vector<AxisTask> tasks{
       {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-       along.accel_mps2 + s.accel_precision_mps2,
-       [&](double a) { return accel_probe_profile(a, s); }},
+       seed(predicted.accel, along.accel_mps2, s.accel_max_mps2, s.accel_precision_mps2),
+       predicted.accel.value, [&](double a) { return accel_probe_profile(a, s); }},
       {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
-       along.accel_mps2 + s.decel_precision_mps2,
-       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
+       seed(predicted.decel, along.accel_mps2, s.decel_max_mps2, s.decel_precision_mps2),
+       predicted.decel.value, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
       {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-       across.accel_mps2 / kGravity + s.lateral_precision_g,
-       [&](double g) { return lateral_probe_profile(g, line, s); }},
-      {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed,
+       seed(predicted.lateral, onset_across, s.lateral_max_g, s.lateral_precision_g),
+       predicted.lateral.value, [&](double g) { return lateral_probe_profile(g, line, s); }},
+      {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed, speed_seed,
        [&](double v) { return stop_probe_profile(v, line, s); }},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
-  const int threads =
-      std::min({resolved_threads(s.axis_threads), 4, int(tasks.size())});
+  const int threads = std::min({resolved_threads(s.axis_threads), 4, int(tasks.size())});
   if (threads <= 1) {
     for (std::size_t i = 0; i < tasks.size(); ++i) {
       outcomes[i] = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k);
@@ -535,17 +626,16 @@ void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point st
 }
 
 // The largest multiple of `step` above `lo` (from lo) not beyond `bound`, as an axis limit.
-AxisLimit closed_form_axis(const QuasiStaticLimit& bound, double scale, double lo, double hi,
-                           double step) {
+AxisLimit closed_form_axis(const AxisPrediction& prediction, double lo, double hi, double step) {
   AxisLimit a;
-  const double b = bound.accel_mps2 / scale;
+  const double b = prediction.value;
   a.closed_form = b;
   if (b >= hi) {
     a.limit = hi;
     a.at_ceiling = true;
     return a;
   }
-  a.mode = bound.mode;
+  a.mode = prediction.mode;
   if (b < lo) {
     a.at_floor = true;
     return a;
@@ -561,16 +651,14 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   const auto start = std::chrono::steady_clock::now();
   Envelope env;
   const QuasiStaticLimit along = bounds.weakest_along();
-  const QuasiStaticLimit across = bounds.weakest_across();
-  env.accel =
-      closed_form_axis(along, 1.0, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2);
-  env.decel =
-      closed_form_axis(along, 1.0, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2);
+  const AxisPredictions p = predict_envelope(bounds, line, s, thresholds);
+  env.accel = closed_form_axis(p.accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2);
+  env.decel = closed_form_axis(p.decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2);
   env.lateral =
-      closed_form_axis(across, kGravity, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
+      closed_form_axis(p.lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
   // The e-stop: nothing moves below the onset; above it a slide grows with v^2 (a tip is
   // assumed at any speed).
-  QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, "", -1};
+  QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, Mechanism::pallet_slip, "", -1};
   if (line.estop_decel_mps2 > along.accel_mps2) {
     stop.mode = along.mode;
     stop.accel_mps2 =
@@ -580,7 +668,8 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
                           along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
                                                                  : thresholds.item_slide_m);
   }
-  env.speed = closed_form_axis(stop, 1.0, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps);
+  env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
+                               s.speed_precision_mps);
   summarise(env, line, s);
   stamp_sims_and_time(env, start);
   env.result.fidelity = std::string(to_string(Fidelity::closed_form));

@@ -4,6 +4,7 @@
 // that governs it. Bisection seeded by closed-form quasi-static bounds, so few probes are needed.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -72,7 +73,8 @@ struct AxisLimit {
   FailureMode mode = FailureMode::no_failure;  ///< what fails just above it
   bool at_ceiling = false;                     ///< safe throughout the search range
   bool at_floor = false;                       ///< fails even at the bottom of the range
-  double closed_form = 0.0;                    ///< the quasi-static bound that seeded the search
+  double closed_form =
+      0.0;  ///< the closed-form prediction (predict_axis; the seed of a one-body load)
   int probes = 0;
 };
 
@@ -91,6 +93,31 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
                                       const SearchConfig& search);
 ConveyorProfile stop_probe_profile(double speed_mps, const LineDescription& line,
                                    const SearchConfig& search);
+
+/// Where a probe of one axis is predicted to fail, in the axis's units, and through what
+/// (`value` >= the range's top and no_failure when nothing is predicted to fail inside it).
+struct AxisPrediction {
+  double value = 0.0;
+  FailureMode mode = FailureMode::no_failure;
+};
+
+/// The closed-form model of a probe: each mechanism as a rigid body. A tip fails at its
+/// quasi-static onset g (b/2) / h. A slip fails where its Coulomb slide reaches what its detector
+/// allows (the pallet 0.30 m on the belt, an item 0.05 m on the deck, 0.02 m on another item): a
+/// belt acceleration a held for T = step_duration_s(x) leaves a load of onset mu g behind by
+/// (a - mu g) T^2 / 2 + ((a - mu g) T)^2 / (2 mu g). The weakest mechanism wins. `unit` converts
+/// the axis's values to m/s^2 (g for the curve axis).
+AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
+                            double hi, const std::function<double(double)>& step_duration_s,
+                            const DetectorThresholds& thresholds);
+
+struct AxisPredictions {
+  AxisPrediction accel, decel, lateral;
+};
+/// The three demand axes, each with its probe's step duration (start-up: the ramp to speed; stop:
+/// the e-stop from speed_max; curve: the arc).
+AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& search, const DetectorThresholds& thresholds);
 
 /// Searches every axis on a settled scene. An unstable probe makes the whole envelope fail with
 /// its reason (never a verdict); a pallet that fails at the floor of the acceleration or the stop

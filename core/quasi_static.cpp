@@ -46,16 +46,18 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
   const double g = kGravity;
   const double mu_belt = friction.belt_pallet.mu_s;
   for (auto* list : {&out.along, &out.across}) {
-    list->push_back({mu_belt * g, FailureMode::pallet_slip,
+    list->push_back({mu_belt * g, FailureMode::pallet_slip, Mechanism::pallet_slip,
                      "the pallet slips on the belt (mu " + fixed(mu_belt, 2) + ")", -1});
   }
   // The whole load over the pallet's edge (the pallet's bottom is the pivot).
   const Vec3 com = composite_com_m(config);
   if (com[2] > 0.0) {
     out.along.push_back({g * (config.base_dims_m[0] / 2 - std::abs(com[0])) / com[2],
-                         FailureMode::tip_over, "the loaded pallet tips over its edge", -1});
+                         FailureMode::tip_over, Mechanism::load_tip,
+                         "the loaded pallet tips over its edge", -1});
     out.across.push_back({g * (config.base_dims_m[1] / 2 - std::abs(com[1])) / com[2],
-                          FailureMode::tip_over, "the loaded pallet tips over its edge", -1});
+                          FailureMode::tip_over, Mechanism::load_tip,
+                          "the loaded pallet tips over its edge", -1});
   }
   if (config.wrap != WrapType::none) return out;
 
@@ -79,6 +81,7 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     const std::string name = "item " + std::to_string(i);
     for (auto* list : {&out.along, &out.across}) {
       list->push_back({mu * g, FailureMode::top_item_slide,
+                       on_deck ? Mechanism::item_slip_on_deck : Mechanism::item_slip_on_item,
                        name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
                            fixed(mu, 2) + ")",
                        static_cast<int>(i)});
@@ -104,10 +107,10 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     const double off_x = std::abs(moment_x / mass - item.position[0]);
     const double off_y = std::abs(moment_y / mass - item.position[1]);
     const std::string what = "the stack from " + name + " up tips over its edge";
-    out.along.push_back({g * std::max(0.0, half[0] - off_x) / h, FailureMode::top_item_slide, what,
-                         static_cast<int>(i)});
-    out.across.push_back({g * std::max(0.0, half[1] - off_y) / h, FailureMode::top_item_slide, what,
-                          static_cast<int>(i)});
+    out.along.push_back({g * std::max(0.0, half[0] - off_x) / h, FailureMode::top_item_slide,
+                         Mechanism::stack_tip, what, static_cast<int>(i)});
+    out.across.push_back({g * std::max(0.0, half[1] - off_y) / h, FailureMode::top_item_slide,
+                          Mechanism::stack_tip, what, static_cast<int>(i)});
   }
   return out;
 }

@@ -15,9 +15,13 @@ namespace pb {
 
 inline constexpr double kGravity = 9.81;
 
+/// What gives way: a Coulomb slip (onset mu g) or a tip (onset g (b/2) / h).
+enum class Mechanism { pallet_slip, load_tip, item_slip_on_deck, item_slip_on_item, stack_tip };
+
 struct QuasiStaticLimit {
   double accel_mps2 = 0.0;
   FailureMode mode = FailureMode::no_failure;
+  Mechanism mechanism = Mechanism::pallet_slip;
   std::string what;  ///< "item 7 slips on item 3 (mu 0.34)"
   int item = -1;     ///< the item concerned, -1 for the pallet
 };

@@ -156,7 +156,8 @@ std::vector<StudyConfig> study_configs() {
                          reference_options());
   ref.is_reference = true;
   out.push_back(std::move(ref));
-  StudyConfig def = make("default", "shipped: automatic fidelity (reduced 2 ms, full 1 ms), seeded search", {});
+  StudyConfig def =
+      make("default", "shipped: automatic fidelity (reduced 2 ms, full 1 ms), seeded search", {});
   def.is_default = true;
   out.push_back(std::move(def));
   StudyConfig eq = make("reference-equivalent",

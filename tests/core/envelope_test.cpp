@@ -271,7 +271,9 @@ class EnvelopeTest : public QObject {
     QVERIFY(env->accel.at_floor);
     QCOMPARE(env->accel.limit, 0.0);
     QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
-    // Seeded at 0.049 + 0.1: fails, and the floor is the only probe left.
+    // Seeded at 0.049 + 0.1 (an item can slide: the walk starts above the onset): fails, and the
+    // floor is the only probe left. The closed form predicts the 5 cm slide below the floor.
+    QVERIFY(env->accel.closed_form < search_.accel_min_mps2 + 1e-6);
     QCOMPARE(env->accel.probes, 2);
     const SafetyResult& r = env->result;
     QCOMPARE(r.verdict, std::string("reject"));
@@ -287,6 +289,50 @@ class EnvelopeTest : public QObject {
     // Regression: a stop probe must follow the carton until it stops sliding (it slid 4.5 cm
     // by the end of a fixed 0.5 s hold, and 9.9 cm in all).
     QVERIFY2(env->speed.at_floor, describe(env->speed));
+  }
+
+  // The closed form of a probe: a load that moves as one body (wrapped: only the pallet can slip
+  // or the whole load tip) on a belt of mu 0.2 slides 0.30 m after a ramp to 2 m/s at a when
+  // v^2 / 2 (1 / (mu g) - 1 / a) = 0.30 (the e-stop from 2 m/s likewise): a = 2.780 m/s^2. Its
+  // search starts there; MuJoCo's slip lands within one step of it, in at most three probes.
+  void oneBodyLoadIsSearchedFromItsPrediction() {
+    auto s = settle(test::pallet({test::carton(-0.25, 0, 0.15), test::carton(0.25, 0, 0.15)},
+                                 WrapType::stretch),
+                    {0.2, 0.5, 0.5});
+    const double expected = 1.0 / (1.0 / (0.2 * kGravity) - 2.0 * 0.30 / (2.0 * 2.0));
+    const AxisPredictions p = predict_envelope(s->bounds, line_, search_, {});
+    QVERIFY2(std::abs(p.accel.value - expected) < 1e-6, std::to_string(p.accel.value).c_str());
+    QVERIFY2(std::abs(p.decel.value - expected) < 1e-6, std::to_string(p.decel.value).c_str());
+    QCOMPARE(p.accel.mode, FailureMode::pallet_slip);
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(env.ok());
+    for (const AxisLimit* a : {&env->accel, &env->decel}) {
+      QCOMPARE(a->mode, FailureMode::pallet_slip);
+      QCOMPARE(a->closed_form, p.accel.value);
+      QVERIFY2(std::abs(a->limit - expected) <= search_.accel_precision_mps2, describe(*a));
+      QVERIFY2(a->probes <= 3, describe(*a));
+    }
+  }
+
+  // A tip fails at its onset; a slip that cannot slide its allowance inside the range, nowhere.
+  void predictionOfTipsAndOfSlipsThatHold() {
+    const std::vector<QuasiStaticLimit> tip{
+        {2.5, FailureMode::tip_over, Mechanism::load_tip, "tips", -1},
+        {1.0, FailureMode::pallet_slip, Mechanism::pallet_slip, "slips", -1}};
+    auto ramp = [](double a) { return 2.0 / a; };
+    const AxisPrediction t = predict_axis(tip, 1.0, 0.1, 5.0, ramp, {});
+    // mu g = 1: the pallet slides 0.30 m well below 2.5, so the slip governs.
+    QCOMPARE(t.mode, FailureMode::pallet_slip);
+    QVERIFY(t.value < 2.5);
+    const std::vector<QuasiStaticLimit> held{
+        {2.5, FailureMode::tip_over, Mechanism::load_tip, "tips", -1},
+        {4.0, FailureMode::pallet_slip, Mechanism::pallet_slip, "slips", -1}};
+    const AxisPrediction h = predict_axis(held, 1.0, 0.1, 5.0, ramp, {});
+    QCOMPARE(h.mode, FailureMode::tip_over);
+    QCOMPARE(h.value, 2.5);
+    const AxisPrediction none = predict_axis({held[1]}, 1.0, 0.1, 5.0, ramp, {});
+    QCOMPARE(none.mode, FailureMode::no_failure);  // 4 -> 5 m/s^2 for 0.4 s slides < 0.30 m
+    QCOMPARE(none.value, 5.0);
   }
 
   // A low 150 kg slab with mu 1 everywhere survives the top of every range: four probes, one per

@@ -52,7 +52,7 @@ QuasiStaticLimit find(const std::vector<QuasiStaticLimit>& limits, int item,
   }
   if (matches != 1) {
     qWarning("%d limits of item %d %s", matches, item, std::string(verb).c_str());
-    return {-1.0, FailureMode::no_failure, "not found", -2};
+    return {-1.0, FailureMode::no_failure, Mechanism::pallet_slip, "not found", -2};
   }
   return *found;
 }

@@ -74,12 +74,13 @@ class StudyAgreementTest : public QObject {
     QVERIFY(def.ok());
     QCOMPARE(QString::fromStdString(def->fidelity), level);
     const EnvelopeComparison c = compare_envelopes(*ref.value, *def.value);
-    qInfo("reference a %.3f d %.3f lat %.3f v %.2f | default a %.3f d %.3f lat %.3f v %.2f | "
-          "error in steps %.2f %.2f %.2f %.2f, modes %d/%d",
-          ref->max_accel_mps2, ref->max_decel_mps2, ref->max_lateral_g, ref->max_speed_mps,
-          def->max_accel_mps2, def->max_decel_mps2, def->max_lateral_g, def->max_speed_mps,
-          c.error_steps[0], c.error_steps[1], c.error_steps[2], c.error_steps[3], c.modes_agreeing,
-          c.modes_compared);
+    qInfo(
+        "reference a %.3f d %.3f lat %.3f v %.2f | default a %.3f d %.3f lat %.3f v %.2f | "
+        "error in steps %.2f %.2f %.2f %.2f, modes %d/%d",
+        ref->max_accel_mps2, ref->max_decel_mps2, ref->max_lateral_g, ref->max_speed_mps,
+        def->max_accel_mps2, def->max_decel_mps2, def->max_lateral_g, def->max_speed_mps,
+        c.error_steps[0], c.error_steps[1], c.error_steps[2], c.error_steps[3], c.modes_agreeing,
+        c.modes_compared);
     QVERIFY(c.verdict_agrees);
     QVERIFY2(c.within_one_step, "a limit of the default is more than one search step away");
     QVERIFY2(c.modes_agree(), "the governing mode differs where the reference fails in range");
