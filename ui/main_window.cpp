@@ -155,13 +155,7 @@ void MainWindow::wireAnalysis() {
   });
   connect(_service, &AnalysisService::failureMapReady, this,
           [this](RequestId, const FailureMapPtr& map) {
-            FailureMapView::Grid grid;
-            grid.speeds_mps = map->speeds_mps;
-            grid.accels_mps2 = map->accels_mps2;
-            for (const pb::MapCell& c : map->cells) {
-              grid.cells.push_back({c.outcome, c.mode, c.non_monotone});
-            }
-            _results->mapView()->setGrid(grid);
+            _results->mapView()->setMap(*map);
             showStatus(tr("Failure map: %1 simulations in %2 s")
                            .arg(map->sims)
                            .arg(map->wall_ms / 1000.0, 0, 'f', 1));
