@@ -447,7 +447,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   if (s.axis_threads < 0) {
     return Result<Envelope>::failure(
         "/search/axis_threads",
-        "must be 0 (one per logical CPU, at most 4), 1 (one axis after another) or more, not " +
+        "must be 0 (one per axis), 1 (one axis after another) or more, not " +
             std::to_string(s.axis_threads));
   }
   const int k = resolved_threads(s.parallel_probes);
@@ -496,7 +496,8 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
        [&](double v) { return stop_probe_profile(v, line, s); }},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
-  const int threads = std::min({resolved_threads(s.axis_threads), 4, int(tasks.size())});
+  const int threads =
+      s.axis_threads == 0 ? int(tasks.size()) : std::min(s.axis_threads, int(tasks.size()));
   if (threads <= 1) {
     for (std::size_t i = 0; i < tasks.size(); ++i) {
       outcomes[i] = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k);
