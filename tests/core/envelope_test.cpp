@@ -7,6 +7,8 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/scene.hpp"
 #include "core/simulate.hpp"
@@ -78,6 +80,15 @@ double slide_threshold(double mu_g, double distance, Ramp ramp) {
     (slide(mid, ramp(mid), mu_g) > distance ? hi : lo) = mid;
   }
   return hi;
+}
+
+// Two loads whose start-up limit lies inside the range and whose failure is monotone: a stack of
+// two cartons that slides and a tall carton that tips.
+std::vector<std::pair<PalletConfig, test::ConstantMu>> slider_and_tipper() {
+  return {
+      {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
+      {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
+  };
 }
 
 QByteArray describe(const AxisLimit& a) {
@@ -380,11 +391,7 @@ class EnvelopeTest : public QObject {
   // finds bitwise the same limits and modes as serial bisection (k = 1) when failure is monotone:
   // a stack of two cartons that slides and a tall carton that tips.
   void kSectionMatchesBisection() {
-    const std::pair<PalletConfig, test::ConstantMu> pallets[] = {
-        {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
-        {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
-    };
-    for (const auto& [config, mu] : pallets) {
+    for (const auto& [config, mu] : slider_and_tipper()) {
       auto s = settle(config, mu);
       auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
       QVERIFY2(serial.ok(), serial.ok() ? "" : to_string(serial.diagnostics[0]).c_str());
@@ -473,11 +480,7 @@ class EnvelopeTest : public QObject {
   // The axes searched side by side (axis_threads) run bitwise the probes of one axis after
   // another, reported in axis order: a sliding two-carton stack and a tall carton that tips.
   void axisThreadsRunTheSameProbes() {
-    const std::pair<PalletConfig, test::ConstantMu> pallets[] = {
-        {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
-        {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
-    };
-    for (const auto& [config, mu] : pallets) {
+    for (const auto& [config, mu] : slider_and_tipper()) {
       auto s = settle(config, mu);
       SearchConfig one = search_;
       one.axis_threads = 1;
