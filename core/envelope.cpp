@@ -332,6 +332,12 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
 AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& s, const DetectorThresholds& thresholds) {
   AxisPredictions p;
+  if (!bounds.one_body()) {  // items can slide and rock: the onsets (see the header)
+    const QuasiStaticLimit along = bounds.weakest_along(), across = bounds.weakest_across();
+    p.accel = p.decel = {along.accel_mps2, along.mode};
+    p.lateral = {across.accel_mps2 / kGravity, across.mode};
+    return p;
+  }
   p.accel = predict_axis(
       bounds.along, 1.0, s.accel_min_mps2, s.accel_max_mps2,
       [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
@@ -471,27 +477,21 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   // top-heavy loads do): its search walks up from just above the weakest onset, so the first
   // failure above the onset is the one it finds.
   const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
-  const auto moves_as_one = [](const std::vector<QuasiStaticLimit>& mechanisms) {
-    return std::all_of(mechanisms.begin(), mechanisms.end(), [](const QuasiStaticLimit& m) {
-      return m.mechanism == Mechanism::pallet_slip || m.mechanism == Mechanism::load_tip;
-    });
-  };
-  const bool one_body = moves_as_one(bounds.along) && moves_as_one(bounds.across);
-  auto seed = [&](const AxisPrediction& p, double onset, double hi, double precision) {
-    if (!one_body) return onset + precision;
+  const bool one_body = bounds.one_body();
+  auto seed = [&](const AxisPrediction& p, double hi, double precision) {
+    if (!one_body) return p.value + precision;  // the prediction is the weakest onset
     return p.value >= hi ? hi : p.value - 0.5 * precision;
   };
-  const double onset_across = bounds.weakest_across().accel_mps2 / kGravity;
   const std::vector<AxisTask> tasks{
       {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-       seed(predicted.accel, along.accel_mps2, s.accel_max_mps2, s.accel_precision_mps2),
-       predicted.accel.value, [&](double a) { return accel_probe_profile(a, s); }},
+       seed(predicted.accel, s.accel_max_mps2, s.accel_precision_mps2), predicted.accel.value,
+       [&](double a) { return accel_probe_profile(a, s); }},
       {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
-       seed(predicted.decel, along.accel_mps2, s.decel_max_mps2, s.decel_precision_mps2),
-       predicted.decel.value, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
+       seed(predicted.decel, s.decel_max_mps2, s.decel_precision_mps2), predicted.decel.value,
+       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
       {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-       seed(predicted.lateral, onset_across, s.lateral_max_g, s.lateral_precision_g),
-       predicted.lateral.value, [&](double g) { return lateral_probe_profile(g, line, s); }},
+       seed(predicted.lateral, s.lateral_max_g, s.lateral_precision_g), predicted.lateral.value,
+       [&](double g) { return lateral_probe_profile(g, line, s); }},
       {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed, speed_seed,
        [&](double v) { return stop_probe_profile(v, line, s); }},
   };

@@ -40,6 +40,13 @@ QuasiStaticLimit QuasiStaticBounds::weakest_along() const {
 QuasiStaticLimit QuasiStaticBounds::weakest_across() const {
   return weakest(across);
 }
+bool QuasiStaticBounds::one_body() const {
+  auto whole = [](const QuasiStaticLimit& m) {
+    return m.mechanism == Mechanism::pallet_slip || m.mechanism == Mechanism::load_tip;
+  };
+  return std::all_of(along.begin(), along.end(), whole) &&
+         std::all_of(across.begin(), across.end(), whole);
+}
 
 QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction) {
   QuasiStaticBounds out;

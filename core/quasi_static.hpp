@@ -31,6 +31,9 @@ struct QuasiStaticBounds {
   std::vector<QuasiStaticLimit> across;  ///< every mechanism across it (Y)
   QuasiStaticLimit weakest_along() const;
   QuasiStaticLimit weakest_across() const;
+  /// The load moves as one body: its only mechanisms are the pallet slipping and the whole load
+  /// tipping (a wrapped load).
+  bool one_body() const;
 };
 
 /// Mechanisms: the pallet slipping on the belt; the whole load tipping over the pallet's edge;
