@@ -39,9 +39,9 @@ struct FidelityChoice {
 /// stays below a quarter of the load-shift threshold (the reduced model agrees with the full one
 /// within one search step on the wrapped curated scenarios: core/README.md, fidelity_test);
 /// otherwise the full model (an unwrapped load, or a wrap too soft for its items). The
-/// closed-form level is never chosen automatically: a quasi-static onset is not within one search
-/// step of the reference's limits (1.5-2.3 steps on the top-heavy and asymmetric scenarios, either
-/// side: core/README.md, `study speed-accuracy`).
+/// closed-form level is never chosen automatically: on loads that can rock its onsets are 2.2-3.5
+/// search steps from the reference's limits, and its agreement on wrapped loads rests on seven
+/// pallets so far (core/README.md, `study speed-accuracy`).
 /// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
 /// is the full model: nothing can be merged).
 FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,
