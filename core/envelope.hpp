@@ -120,7 +120,7 @@ struct AxisPredictions {
 /// with each probe's step duration (start-up: the ramp to speed; stop: the e-stop from speed_max;
 /// curve: the arc); within one search step of the reference on 7 of 7 wrapped pallets (core/
 /// README.md). A load whose items can slide and rock: the weakest onsets, because the rigid-body
-/// slide overstates what such a load survives by 2-3.5 steps on the unwrapped curated scenarios
+/// slide overstated what such a load survives by 2-3.5 steps on the unwrapped curated scenarios
 /// (it rocks and slides at once).
 AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& search, const DetectorThresholds& thresholds);
