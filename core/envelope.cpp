@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <numbers>
@@ -287,8 +288,6 @@ AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, dou
   return out;
 }
 
-namespace {}  // namespace
-
 ConveyorProfile accel_probe_profile(double accel, const SearchConfig& s) {
   ConveyorProfile p;
   p.shape = ProfileShape::accel_hold;
@@ -375,6 +374,7 @@ struct AxisOutcome {
   std::vector<Probe> probes;
   std::optional<std::string> unstable;
   std::optional<std::string> batch_error;
+  std::optional<std::string> error;  ///< an exception ended the search (out of memory, say)
 };
 
 Probe make_probe(Axis axis, double x, const SimResult& r) {
@@ -515,7 +515,12 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
     std::atomic<std::size_t> next{0};
     auto work = [&](Simulator& sim) {
       for (std::size_t i = next++; i < tasks.size(); i = next++) {
-        outcomes[i] = search_axis(tasks[i], sim, rest, o, s.seed_with_closed_form, k);
+        try {  // an exception must not leave a thread (std::terminate): it fails its axis
+          outcomes[i] = search_axis(tasks[i], sim, rest, o, s.seed_with_closed_form, k);
+        } catch (const std::exception& e) {
+          outcomes[i] = {};
+          outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
+        }
       }
     };
     std::vector<std::thread> pool;
@@ -529,6 +534,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
     AxisOutcome& a = outcomes[i];
     env.probes.insert(env.probes.end(), a.probes.begin(), a.probes.end());
     if (a.limit) continue;
+    if (a.error) return Result<Envelope>::failure("", "the envelope search failed: " + *a.error);
     if (a.batch_error) {
       return Result<Envelope>::failure("", "the batched probes could not run: " + *a.batch_error);
     }

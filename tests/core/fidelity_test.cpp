@@ -112,6 +112,13 @@ class FidelityTest : public QObject {
     QCOMPARE(a->result.fidelity, std::string("full"));
     QCOMPARE(b->result.fidelity, std::string("reduced"));
     QVERIFY((*reduced.prepare(config).value)->scene->layout.merged);
+    // Each level steps at its own timestep: the reduced model at scene.timestep_s, the full one
+    // at full_model_timestep_s (forced or chosen).
+    QCOMPARE((*reduced.prepare(config).value)->scene->options.timestep_s, 0.002);
+    QCOMPARE((*full.prepare(config).value)->scene->options.timestep_s, 0.001);
+    Analyzer automatic_full(AnalyzerOptions{}, friction_model());
+    QCOMPARE((*automatic_full.prepare(tower(WrapType::none)).value)->scene->options.timestep_s,
+             0.001);
     const SearchConfig s;
     auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
       QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,

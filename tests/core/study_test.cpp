@@ -140,6 +140,10 @@ class StudyTest : public QObject {
     QVERIFY(differs([](AnalyzerOptions& o) { o.sim.early_stop = false; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.fidelity = Fidelity::reduced; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.line.curve_radius_m = 5.0; }));
+    QVERIFY(differs([](AnalyzerOptions& o) { o.full_model_timestep_s = 0.0005; }));
+    QVERIFY(differs([](AnalyzerOptions& o) { o.full_model_timestep_s.reset(); }));
+    // Threads change the wall time, never the envelope: cached results stay valid.
+    QVERIFY(!differs([](AnalyzerOptions& o) { o.search.axis_threads = 1; }));
   }
 
   // Errors in steps of 0.1 m/s^2, 0.1 m/s^2, 0.01 g and 0.05 m/s.
