@@ -118,7 +118,7 @@ struct AxisPredictions {
 };
 /// The three demand axes. A load that moves as one body (QuasiStaticBounds::one_body): predict_axis
 /// with each probe's step duration (start-up: the ramp to speed; stop: the e-stop from speed_max;
-/// curve: the arc); within one search step of the reference on 7 of 7 wrapped pallets (core/
+/// curve: the arc); within one search step of the reference on 14 of 14 wrapped pallets (core/
 /// README.md). A load whose items can slide and rock: the weakest onsets, because the rigid-body
 /// slide overstated what such a load survives by 2-3.5 steps on the unwrapped curated scenarios
 /// (it rocks and slides at once).

@@ -40,7 +40,7 @@ struct FidelityChoice {
 /// within one search step on the wrapped curated scenarios: core/README.md, fidelity_test);
 /// otherwise the full model (an unwrapped load, or a wrap too soft for its items). The
 /// closed-form level is never chosen automatically: on loads that can rock its onsets are up to 2.3
-/// search steps from the reference's limits, and its agreement on wrapped loads rests on seven
+/// search steps from the reference's limits, and its agreement on wrapped loads rests on 14
 /// pallets so far (core/README.md, `study speed-accuracy`).
 /// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
 /// is the full model: nothing can be merged).
