@@ -26,20 +26,25 @@ double norm3(const mjtNum* v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
-// `spin`) the largest angular acceleration, of the step just taken.
-double max_relative_accel(const SceneLayout& l, const mjData& d, double* spin) {
-  const double ax = d.qacc[l.belt_x_dof], ay = d.qacc[l.belt_y_dof];
+// The largest linear magnitude of `v` (qvel or qacc) at the pallet's or an item's free joint
+// relative to the belt's (bx, by), and (in `spin`) the largest angular one.
+double max_relative(const SceneLayout& l, const mjtNum* v, double bx, double by, double* spin) {
   double fastest = 0.0, fastest_spin = 0.0;
   auto visit = [&](int dof) {
-    const mjtNum rel[3] = {d.qacc[dof] - ax, d.qacc[dof + 1] - ay, d.qacc[dof + 2]};
+    const mjtNum rel[3] = {v[dof] - bx, v[dof + 1] - by, v[dof + 2]};
     fastest = std::max(fastest, norm3(rel));
-    fastest_spin = std::max(fastest_spin, norm3(d.qacc + dof + 3));
+    fastest_spin = std::max(fastest_spin, norm3(v + dof + 3));
   };
   visit(l.pallet_dof);
   for (int dof : l.item_dofs) visit(dof);
-  *spin = fastest_spin;
+  if (spin != nullptr) *spin = fastest_spin;
   return fastest;
+}
+
+// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
+// `spin`) the largest angular acceleration, of the step just taken.
+double max_relative_accel(const SceneLayout& l, const mjData& d, double* spin) {
+  return max_relative(l, d.qacc, d.qacc[l.belt_x_dof], d.qacc[l.belt_y_dof], spin);
 }
 
 }  // namespace
@@ -67,17 +72,7 @@ void read_item_poses(const SceneLayout& layout, const mjData& d, std::vector<Pos
 
 double max_relative_speed(const SceneLayout& l, const mjData& d, double belt_vx, double belt_vy,
                           double* spin) {
-  double fastest = 0.0;
-  double fastest_spin = 0.0;
-  auto visit = [&](int dof) {
-    const mjtNum rel[3] = {d.qvel[dof] - belt_vx, d.qvel[dof + 1] - belt_vy, d.qvel[dof + 2]};
-    fastest = std::max(fastest, norm3(rel));
-    fastest_spin = std::max(fastest_spin, norm3(d.qvel + dof + 3));
-  };
-  visit(l.pallet_dof);
-  for (int dof : l.item_dofs) visit(dof);
-  if (spin != nullptr) *spin = fastest_spin;
-  return fastest;
+  return max_relative(l, d.qvel, belt_vx, belt_vy, spin);
 }
 
 void load_rest_state(const mjModel& m, const SceneLayout& l, const RestState& rest,

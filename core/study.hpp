@@ -96,7 +96,8 @@ struct StudySample {
   std::string config;
   std::string pallet;
   double wall_ms = 0.0;
-  double cpu_ms = 0.0;  ///< the process's CPU time (every axis thread): robust against a loaded machine
+  double cpu_ms =
+      0.0;  ///< the process's CPU time (every axis thread): robust against a loaded machine
   int sims = 0;
   std::optional<SafetyResult> result;
   std::string error;                             ///< why there is no result

@@ -59,6 +59,21 @@ std::unique_ptr<Settled> settle(const Item& item, const test::ConstantMu& mu,
   return settle(test::pallet({item}), mu, options);
 }
 
+// The same load with a belt drive Euler cannot integrate (kv dt / M = 4): every probe of it is
+// unstable. Not settled: probes start from the stable scene's rest state.
+std::unique_ptr<Settled> unstable_belt(const Settled& stable, const test::ConstantMu& mu) {
+  SceneOptions options;
+  options.belt_kv_ratio = 4.0;
+  auto scene = build_scene(stable.scene->config, options, test::constant_friction(mu));
+  if (!scene) return nullptr;
+  auto out = std::make_unique<Settled>();
+  out->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto sim = Simulator::create(*out->scene);
+  if (!sim) return nullptr;
+  out->sim.emplace(std::move(*sim.value));
+  return out;
+}
+
 // How far a load slides on its support in a probe that accelerates the support at `a` for `t`
 // seconds and then holds its speed, with Coulomb friction mu g: it lags at (a - mu g) during the
 // ramp, then catches up decelerating at mu g. Zero below mu g.
@@ -373,13 +388,10 @@ class EnvelopeTest : public QObject {
   // no verdict at all.
   void unstableProbeGivesNoVerdict() {
     auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
-    SceneOptions unstable;
-    unstable.belt_kv_ratio = 4.0;
-    auto scene = build_scene(s->scene->config, unstable, test::constant_friction({1.0, 0.3, 0.4}));
-    QVERIFY(scene.ok());
-    auto sim = Simulator::create(*scene);
-    QVERIFY(sim.ok());
-    auto env = search_envelope(*sim, s->rest, s->bounds, line_, search_);
+    auto broken = unstable_belt(*s, {1.0, 0.3, 0.4});
+    QVERIFY(broken);
+    Simulator& sim = *broken->sim;
+    auto env = search_envelope(sim, s->rest, s->bounds, line_, search_);
     QVERIFY(!env.ok());
     QCOMPARE(env.diagnostics.size(), std::size_t{1});
     QVERIFY2(env.diagnostics[0].message.starts_with(
@@ -454,16 +466,13 @@ class EnvelopeTest : public QObject {
   // negative k is refused, naming the field.
   void kSectionUnstableProbeAndBadK() {
     auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
-    SceneOptions unstable;
-    unstable.belt_kv_ratio = 4.0;
-    auto scene = build_scene(s->scene->config, unstable, test::constant_friction({1.0, 0.3, 0.4}));
-    QVERIFY(scene.ok());
-    auto sim = Simulator::create(*scene);
-    QVERIFY(sim.ok());
+    auto broken = unstable_belt(*s, {1.0, 0.3, 0.4});
+    QVERIFY(broken);
+    Simulator& sim = *broken->sim;
     SearchConfig plain = search_;
     plain.seed_with_closed_form = false;  // the first probes are a batched round
     plain.parallel_probes = 2;
-    auto env = search_envelope(*sim, s->rest, s->bounds, line_, plain);
+    auto env = search_envelope(sim, s->rest, s->bounds, line_, plain);
     QVERIFY(!env.ok());
     QVERIFY2(env.diagnostics[0].message.starts_with(
                  "the simulation became numerically unstable, so no verdict is given: accel "
