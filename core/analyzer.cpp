@@ -26,12 +26,17 @@ void Analyzer::clear_cache() {
   results_.clear();
 }
 
-SceneOptions Analyzer::scene_options_for(Fidelity level) const {
+SceneOptions Analyzer::scene_options_for(const FidelityChoice& choice) const {
   SceneOptions o = options_.scene;
-  o.merge_wrapped = level == Fidelity::reduced;
-  if (level != Fidelity::reduced && options_.full_model_timestep_s) {
-    o.timestep_s = *options_.full_model_timestep_s;
-  }
+  o.merge_wrapped = choice.level == Fidelity::reduced;
+  o.rigid_carrier = choice.rigid_carrier;
+  // A clustered load with no free item is one rigid body, as the reduced model is: its numerics.
+  const bool one_body =
+      choice.level == Fidelity::reduced ||
+      (choice.level == Fidelity::clustered &&
+       std::none_of(o.rigid_carrier.begin(), o.rigid_carrier.end(),
+                    [](int c) { return c == kFreeItem; }));
+  if (!one_body && options_.full_model_timestep_s) o.timestep_s = *options_.full_model_timestep_s;
   return o;
 }
 
@@ -42,9 +47,10 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     return Result<PreparedPallet*>{it->second.get(), {}};
   }
   const auto start = std::chrono::steady_clock::now();
-  // The model level: reduced when the wrap holds the items rigidly (or when asked), else full.
+  // The model level: reduced when the wrap holds the items rigidly, clustered when some items of
+  // an unwrapped load cannot move (or when asked), else full.
   // The closed-form level needs no scene; a pallet prepared for it is simulated in full.
-  FidelityChoice choice{Fidelity::full, "requested"};
+  FidelityChoice choice{Fidelity::full, "requested", {}};
   if (options_.fidelity != Fidelity::full && options_.fidelity != Fidelity::closed_form) {
     if (auto friction = friction_->for_pallet(config)) {
       const SearchConfig& s = options_.search;
@@ -55,10 +61,15 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     }
   }
   // A reduced request that finds nothing to merge is the full model, at the full model's numerics.
-  auto scene = build_scene(config, scene_options_for(choice.level), *friction_);
+  auto options_for = [&](const FidelityChoice& c) {
+    SceneOptions o = scene_options_for(c);
+    if (auto it = buffer_scale_.find(key); it != buffer_scale_.end()) o.buffer_scale = it->second;
+    return o;
+  };
+  auto scene = build_scene(config, options_for(choice), *friction_);
   if (scene && choice.level == Fidelity::reduced && !scene.value->layout.merged) {
-    choice = {Fidelity::full, "nothing to merge"};
-    scene = build_scene(config, scene_options_for(choice.level), *friction_);
+    choice = {Fidelity::full, "nothing to merge", {}};
+    scene = build_scene(config, options_for(choice), *friction_);
   }
   if (!scene) return Result<PreparedPallet*>::failure(std::move(scene.diagnostics));
   auto prepared = std::make_unique<PreparedPallet>();
@@ -68,14 +79,34 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   if (!simulator) return Result<PreparedPallet*>::failure(std::move(simulator.diagnostics));
   prepared->simulator = std::make_unique<Simulator>(std::move(*simulator.value));
   auto rest = prepared->simulator->settle(options_.settle);
-  if (!rest) return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
+  if (!rest) {
+    if (grow_buffers(key, rest.diagnostics)) return prepare(config);
+    return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
+  }
   prepared->rest = std::move(*rest.value);
   prepared->bounds = quasi_static_bounds(config, prepared->scene->friction);
+  if (choice.level == Fidelity::clustered) {
+    // The model's mechanisms: a merged item cannot slip or tip (its onsets are beyond reach).
+    for (auto* list : {&prepared->bounds.along, &prepared->bounds.across}) {
+      std::erase_if(*list, [&](const QuasiStaticLimit& m) {
+        return m.item >= 0 && choice.rigid_carrier[std::size_t(m.item)] != kFreeItem;
+      });
+    }
+  }
   prepared->fidelity = std::move(choice);
   prepared->prepare_ms = ms_since(start);
   PreparedPallet* out = prepared.get();
   prepared_.emplace(key, std::move(prepared));
   return Result<PreparedPallet*>{out, std::move(scene.diagnostics)};
+}
+
+bool Analyzer::grow_buffers(std::string key, const Diagnostics& why) {
+  if (!mentions_buffer_overflow(why)) return false;
+  double& scale = buffer_scale_.try_emplace(key, 1.0).first->second;
+  if (scale >= 8.0) return false;  // three doublings: beyond that the layout itself is at fault
+  scale *= 2.0;
+  prepared_.erase(key);
+  return true;
 }
 
 Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
@@ -98,7 +129,10 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   PreparedPallet& p = **prepared.value;
   auto env =
       search_envelope(*p.simulator, p.rest, p.bounds, options_.line, options_.search, options_.sim);
-  if (!env) return env;
+  if (!env) {
+    if (grow_buffers(p.fingerprint, env.diagnostics)) return envelope(config);
+    return env;
+  }
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
   env->result.fidelity = std::string(to_string(p.fidelity.level));

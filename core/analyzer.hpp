@@ -85,13 +85,22 @@ class Analyzer {
   void clear_cache();
 
  private:
-  /// The scene numerics of a model level (merge for reduced; the full model's own timestep).
-  SceneOptions scene_options_for(Fidelity level) const;
+  /// The scene numerics of a model level (merge for reduced and clustered; the full model's own
+  /// timestep wherever an item is free).
+  SceneOptions scene_options_for(const FidelityChoice& choice) const;
+
+  /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops
+  /// its prepared scene and says to run again; false when `why` is something else or the buffers
+  /// were doubled three times already.
+  bool grow_buffers(std::string key, const Diagnostics& why);
 
   AnalyzerOptions options_;
   const FrictionModel* friction_;
   std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;
   std::map<std::string, SafetyResult> results_;
+  /// Per fingerprint, the buffer growth a contact or constraint overflow asked for (doubled per
+  /// overflow; the scene is rebuilt and the run repeated, never answered from the overflow).
+  std::map<std::string, double> buffer_scale_;
   int cache_hits_ = 0;
 };
 

@@ -2,6 +2,7 @@
 #include "core/engine.hpp"
 
 #include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -103,6 +104,12 @@ Result<DataPtr> make_data(const mjModel* model) {
   }
   if (raw == nullptr) return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
   return Result<DataPtr>{DataPtr(raw), {}};
+}
+
+bool mentions_buffer_overflow(const Diagnostics& diagnostics) {
+  return std::any_of(diagnostics.begin(), diagnostics.end(), [](const Diagnostic& d) {
+    return d.message.find("buffer overflowed") != std::string::npos;
+  });
 }
 
 std::optional<std::string> instability_reason(const mjModel* m, const mjData* d) {

@@ -68,6 +68,9 @@ std::optional<std::string> guarded(F&& fn) {
 /// near-singular inertia, or a non-finite state. Checked after every run of steps. The reason
 /// carries no time: after a divergence MuJoCo has already reset the clock, so callers add theirs.
 std::optional<std::string> instability_reason(const mjModel* model, const mjData* data);
+/// Whether a failure came from a contact or constraint buffer that overflowed (the words
+/// instability_reason uses): a scene sized too small for what happened, which larger buffers cure.
+bool mentions_buffer_overflow(const Diagnostics& diagnostics);
 
 /// The last warning text MuJoCo raised in this thread ("" if none). MuJoCo 2.2.2 formats warnings
 /// in one static buffer, so under concurrent warnings the text may be garbled; decisions use the

@@ -383,7 +383,9 @@ Probe make_probe(Axis axis, double x, const SimResult& r) {
                r.outcome,
                r.failure ? r.failure->mode : FailureMode::no_failure,
                r.failure ? r.failure->time_s : 0.0,
-               r.wall_ms};
+               r.wall_ms,
+               r.steps - r.steps_skipped,
+               r.sim_time_s};
 }
 
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.

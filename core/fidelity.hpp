@@ -9,6 +9,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "core/detectors.hpp"
 #include "core/enums.hpp"
@@ -17,20 +18,27 @@
 
 namespace pb {
 
-enum class Fidelity { automatic, closed_form, reduced, full };
+enum class Fidelity { automatic, closed_form, reduced, clustered, full };
 
 template <>
 struct EnumTable<Fidelity> {
-  static constexpr std::array<EnumName<Fidelity>, 4> names{{{Fidelity::automatic, "auto"},
+  static constexpr std::array<EnumName<Fidelity>, 5> names{{{Fidelity::automatic, "auto"},
                                                             {Fidelity::closed_form, "closed_form"},
                                                             {Fidelity::reduced, "reduced"},
+                                                            {Fidelity::clustered, "clustered"},
                                                             {Fidelity::full, "full"}}};
 };
+
+/// The clustered rung's margin: an item is merged into what carries it when each of its onsets is
+/// at least this many times the most the load can be accelerated (clustering.hpp).
+inline constexpr double kClusterMargin = 1.25;
 
 /// The level that answers for one pallet, and why.
 struct FidelityChoice {
   Fidelity level = Fidelity::full;
   std::string why;
+  /// The clustered level's merge (SceneOptions::rigid_carrier); empty for the other levels.
+  std::vector<int> rigid_carrier;
 };
 
 /// The automatic choice: the reduced model when a wrap holds every item rigidly at the scale of
@@ -43,7 +51,11 @@ struct FidelityChoice {
 /// search steps from the reference's limits, and its agreement on wrapped loads rests on 14
 /// pallets so far (core/README.md, `study speed-accuracy`).
 /// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
-/// is the full model: nothing can be merged).
+/// is the full model: nothing can be merged). The clustered level (unwrapped loads: items whose
+/// onsets are all beyond kClusterMargin x the search's highest demand merged into what carries
+/// them) is given only when asked: capped at the belt's slip onset instead, it put
+/// frozen-pallet-jerk-start 7 steps above the reference (unsafe), and at the ceiling it merged no
+/// item of the 24 unwrapped pallets measured (core/README.md).
 FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,
                                double max_accel_mps2, const DetectorThresholds& thresholds,
                                Fidelity requested = Fidelity::automatic);

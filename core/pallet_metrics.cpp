@@ -166,4 +166,19 @@ std::vector<double> support_fractions(const PalletConfig& config, double toleran
   return fractions;
 }
 
+std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config) {
+  constexpr double kMinSupportArea = 1e-4;  // m^2
+  const auto& items = config.items;
+  std::vector<std::vector<std::size_t>> out(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    for (std::size_t j = 0; j < items.size(); ++j) {
+      if (i != j && std::abs(items[i].position[2] - items[j].top_z()) <= kSupportTolerance_m &&
+          footprint_overlap_area(items[i], items[j]) > kMinSupportArea) {
+        out[i].push_back(j);
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace pb

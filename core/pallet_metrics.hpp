@@ -46,4 +46,10 @@ double footprint_overlap_area(const Item& a, const Item& b);
 /// layout).
 std::vector<double> support_fractions(const PalletConfig& config, double tolerance_m = 0.001);
 
+/// Surfaces within this distance touch (validation's tolerance).
+inline constexpr double kSupportTolerance_m = 0.001;
+/// Per item, the items it rests on directly: their top within kSupportTolerance_m of its bottom,
+/// their footprints sharing more than 1 cm^2 (less is an edge: a neighbour, not a support).
+std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config);
+
 }  // namespace pb

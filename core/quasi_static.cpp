@@ -13,9 +13,7 @@ namespace pb {
 
 namespace {
 
-constexpr double kTouch = 0.001;
-// Footprints sharing less than this (m^2) touch along an edge: neighbours, not a support.
-constexpr double kMinSupportArea = 1e-4;
+constexpr double kTouch = kSupportTolerance_m;
 
 QuasiStaticLimit weakest(const std::vector<QuasiStaticLimit>& limits) {
   if (limits.empty()) return {};
@@ -73,13 +71,9 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
   const double deck = config.base_dims_m[2];
   // carries[i]: items resting directly on item i.
   std::vector<std::vector<std::size_t>> carries(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; j < n; ++j) {
-      if (i != j && std::abs(items[j].position[2] - items[i].top_z()) <= kTouch &&
-          footprint_overlap_area(items[i], items[j]) > kMinSupportArea) {
-        carries[i].push_back(j);
-      }
-    }
+  const auto below = resting_on(config);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t i : below[j]) carries[i].push_back(j);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const Item& item = items[i];

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <sstream>
 
@@ -108,47 +109,107 @@ const char* solver_name(Solver s) {
   return "Newton";
 }
 
+// Contact pairs: belt/pallet, pallet/item for items on the deck, item/item where they can touch.
+// `stacked`: one rests on the other (contacts at rest); otherwise side by side, apart at rest.
+struct Pair {
+  std::string a, b;
+  const FrictionValue* mu;
+  bool stacked;
+};
+
+// Everything the MJCF is written from: the collision boxes, what is merged, the pairs, the welds
+// and the buffers.
+struct ScenePlan {
+  std::vector<Box> boxes;
+  std::vector<std::array<double, 4>> shrink;
+  bool merged = false;
+  Clustering rigid;
+  std::vector<Pair> pairs;
+  int welds = 0;
+  BufferSizes sizes;
+};
+
+ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction,
+                     const SceneOptions& o) {
+  ScenePlan p;
+  const std::size_t n = config.items.size();
+  const double deck = config.base_dims_m[2];
+  p.boxes.reserve(n);
+  for (const auto& item : config.items) p.boxes.push_back(item_box(item));
+  p.shrink = face_shrink(p.boxes, o.lateral_gap_m);
+  const WrapStiffness wrap = o.wrap_welds ? wrap_stiffness(config.wrap) : WrapStiffness{};
+  // The reduced model: the wrap holds every item to the pallet; nothing but the pallet touches
+  // the belt.
+  p.merged = o.merge_wrapped && wrap.stiffness_n_per_m > 0.0 && n > 0;
+  // What each item is rigidly part of: the reduced model merges every item into the pallet; the
+  // clustered one those it names (unwrapped loads only: a wrap's welds hold the items otherwise).
+  p.rigid.carrier.assign(n, p.merged ? kOnPallet : kFreeItem);
+  if (!p.merged && o.rigid_carrier.size() == n && wrap.stiffness_n_per_m <= 0.0) {
+    p.rigid.carrier = o.rigid_carrier;
+  }
+  p.pairs.push_back({"belt", "pallet", &friction.belt_pallet, true});
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::abs(p.boxes[i].z0 - deck) <= kTouch && p.rigid.root(int(i)) != kOnPallet) {
+      p.pairs.push_back({"pallet", "item_" + std::to_string(i), &friction.item_pallet, true});
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const Box& a = p.boxes[i];
+      const Box& b = p.boxes[j];
+      if (p.rigid.root(int(i)) != p.rigid.root(int(j)) &&
+          can_touch(a, b, o.neighbour_distance_m)) {
+        // Stacked: one on the other, footprints overlapping (diagonal neighbours across layers
+        // touch at most along an edge).
+        const bool stacked = interval_gap(a.z0, a.z1, b.z0, b.z1) >= -kTouch &&
+                             interval_gap(a.x0, a.x1, b.x0, b.x1) < -kTouch &&
+                             interval_gap(a.y0, a.y1, b.y0, b.y1) < -kTouch;
+        p.pairs.push_back({"item_" + std::to_string(i), "item_" + std::to_string(j),
+                           &friction.item_item, stacked});
+      }
+    }
+  }
+  p.welds = wrap.stiffness_n_per_m > 0.0 && !p.merged ? static_cast<int>(n) : 0;
+  // Buffers from what the scene uses (MuJoCo 2.2 preallocates them, and its mjData holds an
+  // njmax x njmax matrix, so generous sizes cost memory quadratically): a resting face pair makes 4
+  // contacts (8 at most, box-box), so a stacked pair is given 6; a side pair is apart at rest and
+  // touches only as a load comes apart, so 1 each; a pyramidal condim-3 contact makes 4 rows
+  // (elliptic 3), a weld 6. `buffer_scale` grows them after an overflow (Analyzer); an overflow
+  // is still caught and reported, never a verdict. The stack holds the solver's work arrays.
+  const std::size_t stacked = static_cast<std::size_t>(
+      std::count_if(p.pairs.begin(), p.pairs.end(), [](const Pair& q) { return q.stacked; }));
+  const double want = o.buffer_scale * double(6 * stacked + (p.pairs.size() - stacked) + 8);
+  p.sizes.nconmax = o.nconmax > 0 ? o.nconmax : static_cast<int>(std::ceil(want));
+  p.sizes.njmax = o.njmax > 0 ? o.njmax : 4 * p.sizes.nconmax + 6 * p.welds;
+  p.sizes.nstack = o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax;
+  return p;
+}
+
 }  // namespace
+
+double BufferSizes::data_bytes() const {
+  // efc_AR (njmax^2) and the stack dominate; the rest of mjData is linear in nconmax and njmax.
+  const double nj = njmax;
+  return 8.0 * (nj * nj + double(nstack)) + 600.0 * nconmax + 200.0 * nj;
+}
+
+BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options) {
+  const ContactFriction none{};
+  return plan_scene(config, none, options).sizes;
+}
 
 std::string build_mjcf(const PalletConfig& config, const ContactFriction& friction,
                        const SceneOptions& o) {
   const std::size_t n = config.items.size();
   const Vec3& base = config.base_dims_m;
   const double deck = base[2];
-  std::vector<Box> boxes;
-  boxes.reserve(n);
-  for (const auto& item : config.items) boxes.push_back(item_box(item));
-  const auto shrink = face_shrink(boxes, o.lateral_gap_m);
-
-  // Contact pairs: belt/pallet, pallet/item for items on the deck, item/item where they can touch.
-  struct Pair {
-    std::string a, b;
-    const FrictionValue* mu;
-  };
-  const WrapStiffness wrap = o.wrap_welds ? wrap_stiffness(config.wrap) : WrapStiffness{};
-  // The reduced model: the wrap holds every item to the pallet; nothing but the pallet touches
-  // the belt.
-  const bool merged = o.merge_wrapped && wrap.stiffness_n_per_m > 0.0 && n > 0;
-  std::vector<Pair> pairs{{"belt", "pallet", &friction.belt_pallet}};
-  for (std::size_t i = 0; i < n && !merged; ++i) {
-    if (std::abs(boxes[i].z0 - deck) <= kTouch) {
-      pairs.push_back({"pallet", "item_" + std::to_string(i), &friction.item_pallet});
-    }
-  }
-  for (std::size_t i = 0; i < n && !merged; ++i) {
-    for (std::size_t j = i + 1; j < n; ++j) {
-      if (can_touch(boxes[i], boxes[j], o.neighbour_distance_m)) {
-        pairs.push_back(
-            {"item_" + std::to_string(i), "item_" + std::to_string(j), &friction.item_item});
-      }
-    }
-  }
-  const int welds = wrap.stiffness_n_per_m > 0.0 && !merged ? static_cast<int>(n) : 0;
-  // A box-box pair makes at most 8 contacts; a pyramidal condim-3 contact makes 4 rows (elliptic
-  // 3); a weld 6. The stack holds the solver's dense and sparse work arrays.
-  const int nconmax = o.nconmax > 0 ? o.nconmax : 8 * static_cast<int>(pairs.size());
-  const int njmax = o.njmax > 0 ? o.njmax : 4 * nconmax + 6 * welds;
-  const int nstack = o.nstack > 0 ? o.nstack : 400000 + 200 * njmax;
+  const ScenePlan plan = plan_scene(config, friction, o);
+  const auto& shrink = plan.shrink;
+  const bool merged = plan.merged;
+  const Clustering& rigid = plan.rigid;
+  const auto& pairs = plan.pairs;
+  const int welds = plan.welds;
+  const int nconmax = plan.sizes.nconmax, njmax = plan.sizes.njmax, nstack = plan.sizes.nstack;
 
   std::ostringstream x;
   x << "<mujoco model=\""
@@ -156,7 +217,12 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\">\n"
     << "  <!-- PalletBallet scene: " << n << " items, wrap " << to_string(config.wrap) << ", "
     << pairs.size() << " contact pairs, " << welds << " welds"
-    << (merged ? ", items merged into the pallet body (reduced model)" : "") << " -->\n"
+    << (merged ? ", items merged into the pallet body (reduced model)" : "")
+    << (!merged && rigid.free_count() < int(n)
+            ? ", " + std::to_string(int(n) - rigid.free_count()) +
+                  " items merged into what carries them (clustered model)"
+            : std::string())
+    << " -->\n"
     << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
     << "  <option timestep=\"" << num(o.timestep_s) << "\" integrator=\""
     << integrator_name(o.integrator) << "\" solver=\"" << solver_name(o.solver) << "\" cone=\""
@@ -187,40 +253,61 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
       << " " << num(m / 3 * (h[0] * h[0] + h[1] * h[1])) << "\"/>\n"
       << "      <geom name=\"pallet\" type=\"box\" size=\"" << num(h[0]) << " " << num(h[1]) << " "
       << num(h[2]) << "\"/>\n";
-    if (!merged) x << "    </body>\n";
   }
-  // Merged items are children of the pallet body without a joint: their positions are relative
-  // to the pallet's centre (world z of the pallet centre is the deck's half height).
-  const double child_dz = merged ? -base[2] / 2 : 0.0;
-  const char* indent = merged ? "  " : "";
-  for (std::size_t i = 0; i < n; ++i) {
+  // Merged items are bodies without a joint inside what carries them (the pallet's body or another
+  // item's), placed in its frame; free items are top-level bodies with a free joint.
+  struct Frame {
+    double x, y, z, yaw;
+  };
+  auto centre = [&](std::size_t i) {
+    const Item& item = config.items[i];
+    return Frame{item.position[0], item.position[1], item.position[2] + item.dims_m[2] / 2,
+                 item.orientation_deg * std::numbers::pi / 180.0};
+  };
+  std::function<void(std::size_t, const Frame&, int)> emit_item = [&](std::size_t i,
+                                                                      const Frame& parent,
+                                                                      int depth) {
     const Item& item = config.items[i];
     const double m = item.weight_kg;
     const Vec3& d = item.dims_m;
-    const double yaw = item.orientation_deg * std::numbers::pi / 180.0;
-    const double cy = std::cos(yaw), sy = std::sin(yaw);
+    const Frame c = centre(i);
+    const double yaw = c.yaw - parent.yaw;
+    const double cp = std::cos(parent.yaw), sp = std::sin(parent.yaw);
+    const double dx = c.x - parent.x, dy = c.y - parent.y;
+    const std::string indent(std::size_t(4 + 2 * depth), ' ');
     // The collision box: the item's box with faces pulled in where a neighbour is too close,
     // expressed in the item's own frame (yaw is a multiple of 90 degrees wherever it applies).
+    const double own_c = std::cos(c.yaw), own_s = std::sin(c.yaw);
     const auto& s = shrink[i];
     const double wx = 0.5 * (s[0] - s[1]), wy = 0.5 * (s[2] - s[3]);  // world offset of the centre
-    const double lx = cy * wx + sy * wy, ly = -sy * wx + cy * wy;     // in the item frame
+    const double lx = own_c * wx + own_s * wy, ly = -own_s * wx + own_c * wy;  // in the item frame
     const double sx_world = 0.5 * (s[0] + s[1]), sy_world = 0.5 * (s[2] + s[3]);
-    const bool swapped = std::abs(sy) > std::abs(cy);
+    const bool swapped = std::abs(own_s) > std::abs(own_c);
     const double hx = d[0] / 2 - (swapped ? sy_world : sx_world);
     const double hy = d[1] / 2 - (swapped ? sx_world : sy_world);
-    x << indent << "    <body name=\"item_" << i << "\" pos=\"" << num(item.position[0]) << " "
-      << num(item.position[1]) << " " << num(item.position[2] + d[2] / 2 + child_dz) << "\" quat=\""
-      << num(std::cos(yaw / 2)) << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n";
-    if (!merged) x << "      <freejoint name=\"item_" << i << "_free\"/>\n";
-    x << indent << "      <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
+    x << indent << "<body name=\"item_" << i << "\" pos=\"" << num(cp * dx + sp * dy) << " "
+      << num(-sp * dx + cp * dy) << " " << num(c.z - parent.z) << "\" quat=\"" << num(std::cos(yaw / 2))
+      << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n";
+    if (rigid.carrier[i] == kFreeItem) x << indent << "  <freejoint name=\"item_" << i << "_free\"/>\n";
+    x << indent << "  <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
       << num(m / 12 * (d[1] * d[1] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[1] * d[1])) << "\"/>\n"
-      << indent << "      <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " "
-      << num(ly) << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n"
-      << indent << "    </body>\n";
+      << indent << "  <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " "
+      << num(ly) << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n";
+    for (std::size_t j = 0; j < n; ++j) {
+      if (rigid.carrier[j] == int(i)) emit_item(j, c, depth + 1);
+    }
+    x << indent << "</body>\n";
+  };
+  const Frame pallet_frame{0.0, 0.0, deck / 2, 0.0};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (rigid.carrier[i] == kOnPallet) emit_item(i, pallet_frame, 1);
   }
-  if (merged) x << "    </body>\n";
+  x << "    </body>\n";  // the pallet
+  for (std::size_t i = 0; i < n; ++i) {
+    if (rigid.carrier[i] == kFreeItem) emit_item(i, Frame{0.0, 0.0, 0.0, 0.0}, 0);
+  }
   x << "  </worldbody>\n  <actuator>\n";
   const double kv = o.belt_kv_ratio * o.belt_mass_kg / o.timestep_s;
   x << "    <velocity name=\"belt_vx\" joint=\"belt_x\" kv=\"" << num(kv) << "\"/>\n"
@@ -237,7 +324,8 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   if (welds > 0) {
     x << "  <equality>\n";
     for (std::size_t i = 0; i < n; ++i) {
-      const WeldParams w = weld_params(wrap, config.items[i].weight_kg, config.base_mass_kg);
+      const WeldParams w = weld_params(wrap_stiffness(config.wrap), config.items[i].weight_kg,
+                                       config.base_mass_kg);
       x << "    <weld name=\"wrap_" << i << "\" body1=\"item_" << i
         << "\" body2=\"pallet\" solref=\"" << nums(w.solref) << "\" solimp=\"" << nums(w.solimp)
         << "\"/>\n";
@@ -286,6 +374,19 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
     return Result<Scene>::failure("", "the timestep and the belt mass must be positive");
   }
 
+  // A scene the engine cannot hold is refused before it is compiled, in words.
+  const BufferSizes sizes = scene_buffer_sizes(config, options);
+  if (sizes.data_bytes() > kMaxSimulationBytes) {
+    return Result<Scene>::failure(
+        "/items", "this load needs " + std::to_string(sizes.njmax) + " constraint rows (" +
+                      std::to_string(config.items.size()) + " items, " +
+                      std::to_string(sizes.nconmax) + " contacts): one simulation would take " +
+                      fixed(sizes.data_bytes() / (1024.0 * 1024.0), 0) +
+                      " MB, above the engine's " +
+                      fixed(kMaxSimulationBytes / (1024.0 * 1024.0), 0) +
+                      " MB (MuJoCo 2.2 holds a rows x rows matrix per simulation); split the load "
+                      "into fewer, larger items, or analyse it wrapped");
+  }
   Scene scene;
   scene.config = config;
   scene.options = options;
@@ -315,11 +416,12 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   for (std::size_t i = 0; i < config.items.size(); ++i) {
     const std::string name = "item_" + std::to_string(i);
     l.item_bodies.push_back(body(name));
-    if (l.merged) continue;
     const int j = joint(name + "_free");
+    if (j < 0) continue;  // merged into what carries it
     l.item_qpos.push_back(m->jnt_qposadr[j]);
     l.item_dofs.push_back(m->jnt_dofadr[j]);
   }
+  l.free_items = static_cast<int>(l.item_dofs.size());
   l.contact_pairs = m->npair;
   l.welds = m->neq;
   return Result<Scene>{std::move(scene), std::move(diags)};

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clustering.hpp"
 #include "core/diagnostic.hpp"
 #include "core/engine.hpp"
 #include "core/friction.hpp"
@@ -52,13 +53,36 @@ struct SceneOptions {
   /// centre of mass and inertia, and every item pose is still computed); the belt/pallet contact
   /// is the only contact. No effect on an unwrapped pallet or with wrap_welds off.
   bool merge_wrapped = false;
-  /// Buffer sizes; <= 0 means sized from the scene.
+  /// The clustered model (Fidelity::clustered, clustering.hpp): per item, what it is merged into
+  /// rigidly (kOnPallet, another item's index) or kFreeItem; contacts inside one rigid body are
+  /// dropped. Empty: every item free (or merged by merge_wrapped). Ignored unless its size is the
+  /// number of items, and for a wrapped load (its welds decide).
+  std::vector<int> rigid_carrier;
+  /// Buffer sizes; <= 0 means sized from the scene (times buffer_scale, which the Analyzer doubles
+  /// after an overflow).
+  double buffer_scale = 1.0;
   int nconmax = 0;
   int njmax = 0;
   int nstack = 0;
 
   bool operator==(const SceneOptions&) const = default;
 };
+
+/// MuJoCo 2.2's preallocated buffers of a scene.
+struct BufferSizes {
+  int nconmax = 0, njmax = 0, nstack = 0;
+  /// What one mjData of them takes (its njmax x njmax efc_AR and the stack dominate), bytes.
+  double data_bytes() const;
+};
+
+/// The most one simulation of a scene may take. MuJoCo 2.2 holds an njmax x njmax matrix per
+/// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all); the
+/// envelope runs up to four at once. 256 MB is an njmax of about 5,600: some 1,400 resting contacts,
+/// about 300 stacked cartons.
+inline constexpr double kMaxSimulationBytes = 256.0 * 1024 * 1024;
+
+/// The buffers build_mjcf sizes for a pallet (no friction or engine needed).
+BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options);
 
 /// Where things are in the compiled model.
 struct SceneLayout {
@@ -70,10 +94,11 @@ struct SceneLayout {
   int belt_x_act = -1, belt_y_act = -1;
   int pallet_qpos = -1;  ///< free joint: 7 qpos (pos, quat), 6 dofs from pallet_dof
   int pallet_dof = -1;
-  /// The free items' joints (empty when the items are merged into the pallet body).
+  /// The free items' joints, in item order (merged items have none).
   std::vector<int> item_qpos;
   std::vector<int> item_dofs;
-  bool merged = false;  ///< the items are merged into the pallet body (the reduced model)
+  bool merged = false;  ///< every item is merged into the pallet body (the reduced model)
+  int free_items = 0;   ///< items on their own free joint
   int contact_pairs = 0;
   int welds = 0;
 };

@@ -334,6 +334,13 @@ void check_stack_height(Checker& c, const PalletConfig& config, const std::vecto
 Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits,
                      const Catalog* catalog) {
   Checker c(limits);
+  if (config.items.size() > limits.max_items) {
+    c.error("/items", std::to_string(config.items.size()) + " items is more than the " +
+                          std::to_string(limits.max_items) +
+                          " a pallet may carry here; describe the load as fewer, larger units "
+                          "(whole cases or layers) or split it over several pallets");
+    return c.out;
+  }
   const bool base_ok = check_base(c, config);
   const Catalog& skus = catalog != nullptr ? *catalog : Catalog::builtin();
   std::vector<bool> usable(config.items.size());

@@ -20,6 +20,11 @@ struct ValidationLimits {
   double max_gross_mass_kg = 1200.0;
   double max_stack_height_m = 1.85;  ///< top of the load above the floor
   double low_support_warning = 0.5;  ///< warn when an item rests on less than this fraction
+  /// The most items a pallet may carry, checked before anything else (a 20,000-item document is
+  /// refused at once, not checked pair by pair). 400: a EUR deck of the smallest catalog cartons
+  /// to the height cap is about 300; the engine's own limit (scene.hpp: kMaxSimulationBytes) is
+  /// usually lower and is named when a scene is built.
+  std::size_t max_items = 400;
   bool require_known_skus = false;   ///< every item's SKU must be in the catalog
 };
 
