@@ -2,6 +2,7 @@
 #include "core/envelope.hpp"
 #include "core/failure_map.hpp"
 #include "core/fidelity.hpp"
+#include "core/pallet_metrics.hpp"
 #include "core/text.hpp"
 
 #include <algorithm>
@@ -498,10 +499,25 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
        [&](double v) { return stop_probe_profile(v, line, s); }},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
-  const int threads =
-      s.axis_threads == 0 ? int(tasks.size()) : std::min(s.axis_threads, int(tasks.size()));
+  // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
+  // search and the e-stop speed for the stop search; each is searched only if it cannot be taken.
+  const bool mirror = s.derive_axes && s.accel_min_mps2 == s.decel_min_mps2 &&
+                      s.accel_max_mps2 == s.decel_max_mps2 &&
+                      s.accel_precision_mps2 == s.decel_precision_mps2 &&
+                      mirror_symmetric_along(simulator.scene().config);
+  const bool from_stop = s.derive_axes && line.estop_decel_mps2 >= s.decel_min_mps2 &&
+                         line.estop_decel_mps2 <= s.decel_max_mps2;
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (!(mirror && tasks[i].axis == Axis::decel) && !(from_stop && tasks[i].axis == Axis::speed)) {
+      order.push_back(i);
+    }
+  }
+  const int fit = std::max(1, int(s.axis_memory_bytes / std::max(1.0, simulator.data_bytes())));
+  const int threads = std::min(
+      fit, s.axis_threads == 0 ? int(order.size()) : std::min(s.axis_threads, int(order.size())));
   if (threads <= 1) {
-    for (std::size_t i = 0; i < tasks.size(); ++i) {
+    for (std::size_t i : order) {
       outcomes[i] = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k);
       if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
     }
@@ -516,7 +532,8 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
     }
     std::atomic<std::size_t> next{0};
     auto work = [&](Simulator& sim) {
-      for (std::size_t i = next++; i < tasks.size(); i = next++) {
+      for (std::size_t n = next++; n < order.size(); n = next++) {
+        const std::size_t i = order[n];
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           outcomes[i] = search_axis(tasks[i], sim, rest, o, s.seed_with_closed_form, k);
         } catch (const std::exception& e) {
@@ -529,6 +546,33 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
     for (auto& sim : extra) pool.emplace_back(work, std::ref(*sim));
     work(simulator);
     for (auto& t : pool) t.join();
+  }
+  AxisOutcome& up = outcomes[0];
+  AxisOutcome& down = outcomes[1];
+  AxisOutcome& estop = outcomes[3];
+  if (mirror && up.limit) {
+    const double full_ramp = s.speed_max_mps / s.max_ramp_s;  // the slowest a ramp reaches speed
+    const bool pulses = std::all_of(up.probes.begin(), up.probes.end(),
+                                    [&](const Probe& p) { return p.value >= full_ramp; });
+    if (pulses) {
+      down.limit = up.limit;
+      down.limit->closed_form = tasks[1].closed_form;
+      down.limit->probes = 0;
+      down.limit->derived = true;
+    } else {
+      down = search_axis(tasks[1], simulator, rest, o, s.seed_with_closed_form, k);
+    }
+  }
+  if (from_stop && down.limit && outcomes[2].limit) {
+    if (down.limit->at_ceiling || down.limit->limit >= line.estop_decel_mps2) {
+      estop.limit = AxisLimit{};
+      estop.limit->limit = s.speed_max_mps;
+      estop.limit->at_ceiling = true;
+      estop.limit->closed_form = tasks[3].closed_form;
+      estop.limit->derived = true;
+    } else {
+      estop = search_axis(tasks[3], simulator, rest, o, s.seed_with_closed_form, k);
+    }
   }
   // Probes in axis order whatever the threads did; the first axis in that order that failed names
   // the reason.

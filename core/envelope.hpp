@@ -53,6 +53,14 @@ struct SearchConfig {
   /// balances four threads better than a queue does two (tall-unwrapped-tower: 6.6 s serial, 4.4 s
   /// on 2 threads, 3.8 s on 4). Batch studies, which fill every core with pallets, use 1.
   int axis_threads = 0;
+  /// The memory the axis threads' simulations may take together: each needs its own mjData, and a
+  /// large load's is hundreds of MB (MuJoCo 2.2's njmax x njmax matrix), so fewer threads run
+  /// when four would not fit (a 96-carton load: 1.5 GB resident on four, see core/README.md).
+  double axis_memory_bytes = 640.0 * 1024 * 1024;
+  /// Axes answered from others where the physics says they must agree (search_envelope): a
+  /// mirror-symmetric load's stop from its start-up, and the e-stop speed from the stop search.
+  /// false searches every axis on its own (the reference configuration, the judge, does).
+  bool derive_axes = true;
 
   bool operator==(const SearchConfig&) const = default;
 };
@@ -80,6 +88,9 @@ struct AxisLimit {
   double closed_form =
       0.0;  ///< the closed-form prediction (predict_axis; the seed of a one-body load)
   int probes = 0;
+  /// Not probed: derived from another axis's search (search_envelope): the stop from the
+  /// start-up's (a mirror-image load), or the e-stop speed from the stop's.
+  bool derived = false;
 };
 
 struct Envelope {
@@ -127,7 +138,15 @@ struct AxisPredictions {
 AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& search, const DetectorThresholds& thresholds);
 
-/// Searches every axis on a settled scene. An unstable probe makes the whole envelope fail with
+/// Searches every axis on a settled scene. In the belt's frame a start-up at a is a pulse of -a for
+/// speed_max / a (once a reaches speed_max within max_ramp_s) and the stop from speed_max at d a
+/// pulse of +d for speed_max / d: a load that is its own mirror image along the belt
+/// (mirror_symmetric_along) with equal start-up and stop ranges answers both from the start-up
+/// search, whose probes all were such pulses; otherwise the stop is searched after it. Likewise the
+/// line's e-stop from speed_max is the stop probe at the line's deceleration: when the stop search
+/// found that deceleration safe (failure is monotone along the axis, as every search assumes), the
+/// e-stop speed is at its ceiling without a probe. An unstable probe makes the whole envelope fail
+/// with
 /// its reason (never a verdict); a pallet that fails at the floor of the acceleration or the stop
 /// search gets verdict "reject" with the mode.
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,

@@ -181,4 +181,33 @@ std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config) {
   return out;
 }
 
+bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m) {
+  const auto& items = config.items;
+  auto near = [&](double a, double b) { return std::abs(a - b) <= tolerance_m; };
+  auto footprint = [](const Item& it) {  // yaw a multiple of 90 degrees: the extents along X, Y
+    const bool turned = std::lround(it.orientation_deg / 90.0) % 2 != 0;
+    return std::array<double, 2>{turned ? it.dims_m[1] : it.dims_m[0],
+                                 turned ? it.dims_m[0] : it.dims_m[1]};
+  };
+  std::vector<bool> used(items.size(), false);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const Item& a = items[i];
+    const double q = a.orientation_deg / 90.0;
+    if (!std::isfinite(q) || std::abs(q - std::round(q)) > 1e-9) return false;
+    if (used[i]) continue;
+    bool found = false;
+    for (std::size_t j = i; j < items.size() && !found; ++j) {
+      const Item& b = items[j];
+      if (used[j] || !near(b.position[0], -a.position[0]) || !near(b.position[1], a.position[1]) ||
+          !near(b.position[2], a.position[2]) || b.sku != a.sku || b.weight_kg != a.weight_kg ||
+          b.dims_m[2] != a.dims_m[2] || footprint(a) != footprint(b)) {
+        continue;
+      }
+      used[i] = used[j] = found = true;
+    }
+    if (!found) return false;
+  }
+  return true;
+}
+
 }  // namespace pb

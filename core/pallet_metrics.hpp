@@ -46,6 +46,11 @@ double footprint_overlap_area(const Item& a, const Item& b);
 /// layout).
 std::vector<double> support_fractions(const PalletConfig& config, double tolerance_m = 0.001);
 
+/// The load is its own mirror image across the plane x = 0 (along the belt): every item has a
+/// twin at (-x, y, z) of the same size, mass and SKU (an item on the plane is its own twin), every
+/// yaw a multiple of 90 degrees; positions within `tolerance_m`.
+bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m = 0.001);
+
 /// Surfaces within this distance touch (validation's tolerance).
 inline constexpr double kSupportTolerance_m = 0.001;
 /// Per item, the items it rests on directly: their top within kSupportTolerance_m of its bottom,

@@ -28,6 +28,10 @@ Result<Simulator> Simulator::create(const Scene& scene) {
   return Result<Simulator>{Simulator(scene, std::move(*data.value)), {}};
 }
 
+double Simulator::data_bytes() const {
+  return double(data_->nbuffer) + double(data_->nstack) * sizeof(mjtNum);
+}
+
 Result<RestState> Simulator::settle(const SettleOptions& o) {
   const mjModel* m = scene_->model.get();
   mjData* d = data_.get();

@@ -89,6 +89,9 @@ class Simulator {
                 const SimOptions& options = {});
 
   const Scene& scene() const { return *scene_; }
+  /// What its mjData holds, bytes (MuJoCo 2.2 preallocates it whole: the main buffer, with its
+  /// njmax x njmax matrix, and the stack).
+  double data_bytes() const;
 
  private:
   Simulator(const Scene& scene, DataPtr data) : scene_(&scene), data_(std::move(data)) {}

@@ -127,6 +127,7 @@ AnalyzerOptions reference_options() {
   o.search = fine_search(o.search);
   o.search.seed_with_closed_form = false;
   o.search.parallel_probes = 1;
+  o.search.derive_axes = false;  // the judge probes every axis
   return o;
 }
 
@@ -144,6 +145,7 @@ AnalyzerOptions reference_equivalent_options() {
   o.search.seed_with_closed_form = false;
   o.search.parallel_probes = 1;
   o.search.axis_threads = 1;  // one probe after another, as the reference system searched
+  o.search.derive_axes = false;
   o.sim.early_stop = false;
   return o;
 }

@@ -257,7 +257,10 @@ Json probes_json(const std::vector<Probe>& probes) {
                    {"outcome", to_string(p.outcome)},
                    {"mode", to_string(p.mode)},
                    {"failure_time_s",
-                    p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)}});
+                    p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)},
+                   {"sim_time_s", p.sim_time_s},
+                   {"steps", p.steps},
+                   {"wall_ms", p.wall_ms}});
   }
   return out;
 }
@@ -539,7 +542,8 @@ std::vector<Command> physics_commands() {
          {"speed-max", "V", "top of the speed search, m/s (default 2)"},
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
-          "list every probe of each search (axis, value, outcome, mode, failure_time_s); every "
+          "list every probe of each search (axis, value, outcome, mode, failure_time_s, sim_time_s, "
+          "steps, wall_ms); every "
           "file's search is then run, repeated pallets included"},
          {"fidelity", "LEVEL",
           enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "

@@ -54,7 +54,7 @@ class FidelityTest : public QObject {
  private slots:
   void namesRoundTrip() {
     const auto& names = EnumTable<Fidelity>::names;
-    QCOMPARE(names.size(), std::size_t{4});
+    QCOMPARE(names.size(), std::size_t{5});
     for (std::size_t i = 0; i < names.size(); ++i) {
       QCOMPARE(static_cast<std::size_t>(names[i].value), i);
       QCOMPARE(enum_from_string<Fidelity>(names[i].name), std::optional(names[i].value));
@@ -62,7 +62,7 @@ class FidelityTest : public QObject {
     QCOMPARE(to_string(Fidelity::reduced), std::string_view("reduced"));
     QCOMPARE(to_string(Fidelity::full), std::string_view("full"));
     QVERIFY(!enum_from_string<Fidelity>("automatic"));
-    QCOMPARE(enum_choices<Fidelity>(), std::string("auto, closed_form, reduced or full"));
+    QCOMPARE(enum_choices<Fidelity>(), std::string("auto, closed_form, reduced, clustered or full"));
   }
 
   // Model no more than the scene needs: a banded load is one rigid body; an unwrapped tower's

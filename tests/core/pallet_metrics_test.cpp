@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/pallet_metrics.hpp"
+#include "test_pallets.hpp"
 
 using namespace pb;
 
@@ -171,6 +172,27 @@ class PalletMetricsTest : public QObject {
         pallet({box(0.0, 0.0, 0.15, 0.4, 0.4, 0.2), box(0.0, 0.0, 0.15, 0.4, 0.4, 0.2),
                 box(0.0, 0.0, 0.35, 0.4, 0.4, 0.2)}));
     QCOMPARE(f[2], 1.0);
+  }
+
+  // Every item has a twin at (-x, y, z) of the same size, mass and SKU; an item on the plane is
+  // its own twin; a turned item's footprint counts, not its yaw.
+  void mirrorSymmetryAlongTheBelt() {
+    using test::carton;
+    QVERIFY(mirror_symmetric_along(test::pallet({})));
+    QVERIFY(mirror_symmetric_along(test::pallet({carton(0, 0.1, 0.15)})));
+    QVERIFY(mirror_symmetric_along(
+        test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15), carton(0, 0, 0.35)})));
+    QVERIFY(mirror_symmetric_along(test::pallet(
+        {carton(-0.3, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 90.0), carton(0.3, 0, 0.15, {0.3, 0.4, 0.2})})));
+    QVERIFY(!mirror_symmetric_along(test::pallet({carton(0.1, 0, 0.15)})));
+    QVERIFY(!mirror_symmetric_along(
+        test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15, {0.4, 0.3, 0.2}, 11.0)})));
+    QVERIFY(!mirror_symmetric_along(
+        test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15, {0.4, 0.3, 0.25})})));
+    QVERIFY(!mirror_symmetric_along(test::pallet({carton(0, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 30.0)})));
+    // Two cartons on one side cannot share the one twin on the other.
+    QVERIFY(!mirror_symmetric_along(
+        test::pallet({carton(-0.3, 0, 0.15), carton(-0.3, 0, 0.35), carton(0.3, 0, 0.15)})));
   }
 };
 

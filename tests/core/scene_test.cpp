@@ -436,7 +436,8 @@ class SceneTest : public QObject {
     QCOMPARE(m2->pair_solimp[1], 0.999);
   }
 
-  // A box-box pair makes at most 8 contacts of 4 pyramidal rows; a weld makes 6 rows.
+  // A resting stacked pair gets 6 contacts (4 at rest, 8 at most box-box), a side pair 1 (apart
+  // at rest), 8 more for the first collisions; 4 pyramidal rows a contact, 6 a weld.
   void buffersAreSizedFromTheScene() {
     const PalletConfig config =
         pallet({carton(-0.2, 0.0, 0.15), carton(0.2, 0.0, 0.15), carton(0.2, 0.0, 0.35)},
@@ -446,7 +447,9 @@ class SceneTest : public QObject {
     // item_0's top edge).
     QCOMPARE(m->npair, 6);
     QCOMPARE(m->neq, 3);
-    QCOMPARE(m->nconmax, 8 * m->npair);
+    // Stacked: belt/pallet, pallet/item_0, pallet/item_1, item_1/item_2; side: item_0/item_1,
+    // item_0/item_2 (their edges meet).
+    QCOMPARE(m->nconmax, 6 * 4 + 2 + 8);
     QCOMPARE(m->njmax, 4 * m->nconmax + 6 * 3);
     QCOMPARE(m->nstack, 400000 + 200 * m->njmax);
     SceneOptions o;
@@ -626,6 +629,36 @@ class SceneTest : public QObject {
       mj_forward(m, data->get());
       QVERIFY2(!instability_reason(m, data->get()).has_value(), s.slug.c_str());
     }
+  }
+
+  // Buffers follow what the scene uses: a resting stacked pair gets 6 contacts, a side pair 1. A
+  // load whose simulation would pass the engine's memory limit is refused before compiling, naming
+  // the rows, the megabytes and what to change.
+  void buffersFollowTheSceneAndTheEngineLimitIsNamed() {
+    const PalletConfig two = pallet({carton(0, 0, 0.15), carton(0, 0, 0.35)});
+    const BufferSizes small = scene_buffer_sizes(two, {});
+    QCOMPARE(small.nconmax, 6 * 3 + 8);  // belt/pallet, pallet/item 0, item 0/item 1
+    QCOMPARE(small.njmax, 4 * small.nconmax);
+    SceneOptions grown;
+    grown.buffer_scale = 2.0;
+    QCOMPARE(scene_buffer_sizes(two, grown).nconmax, 2 * small.nconmax);
+    std::vector<Item> many;  // 3 layers of 12 x 8 cartons of 0.1 m: 288 items
+    for (int layer = 0; layer < 3; ++layer) {
+      for (int i = 0; i < 12; ++i) {
+        for (int j = 0; j < 8; ++j) {
+          many.push_back(carton(-0.55 + 0.1 * i, -0.35 + 0.1 * j, 0.15 + 0.1 * layer,
+                                {0.1, 0.1, 0.1}, 1.0));
+        }
+      }
+    }
+    const PalletConfig big = pallet(many);
+    QVERIFY(!has_errors(validate(big)));
+    QVERIFY(scene_buffer_sizes(big, {}).data_bytes() > kMaxSimulationBytes);
+    auto scene = build_scene(big, {}, friction_model());
+    QVERIFY(!scene.ok());
+    QCOMPARE(scene.diagnostics[0].pointer, std::string("/items"));
+    QVERIFY(scene.diagnostics[0].message.find("constraint rows") != std::string::npos);
+    QVERIFY(scene.diagnostics[0].message.find("MB") != std::string::npos);
   }
 };
 

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/validation.hpp"
+#include "test_pallets.hpp"
 
 using namespace pb;
 
@@ -385,6 +386,19 @@ class ValidationTest : public QObject {
     QStringList pointers;
     for (const auto& d : found) pointers << QString::fromStdString(d.pointer);
     QCOMPARE(pointers, (QStringList{"/pallet_id", "/body_temp_c", "/items/1/weight_kg"}));
+  }
+
+  // Too many items is refused first, with one error naming the limit (no pair checks: 20,000
+  // items would otherwise keep the quadratic checks busy for minutes).
+  void tooManyItemsIsRefusedFirst() {
+    PalletConfig config;
+    config.items.assign(20000, test::carton(0, 0, 0.15));
+    const Diagnostics d = validate(config);
+    QCOMPARE(d.size(), std::size_t{1});
+    QCOMPARE(d[0].pointer, std::string("/items"));
+    QCOMPARE(d[0].severity, Severity::error);
+    QVERIFY(d[0].message.find("400") != std::string::npos);
+    QVERIFY(!has_errors(validate(test::pallet({test::carton(0, 0, 0.15)}))));
   }
 };
 
