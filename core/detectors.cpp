@@ -109,7 +109,8 @@ FailureDetector::FailureDetector(const DetectorThresholds& thresholds, const Pos
 
 std::optional<FailureEvent> FailureDetector::update(double t, const Trace::BeltState& belt,
                                                     const Pose& pallet,
-                                                    std::span<const Pose> items) const {
+                                                    std::span<const Pose> items,
+                                                    DetectorReadings* readings) const {
   struct Candidate {
     FailureMode mode;
     Measure measure;
@@ -124,6 +125,10 @@ std::optional<FailureEvent> FailureDetector::update(double t, const Trace::BeltS
        thresholds_.pallet_slip_m},
       {FailureMode::load_shift, load_shift(rest_distances_, items), thresholds_.load_shift_m},
   };
+  if (readings != nullptr) {
+    *readings = {candidates[0].measure.value, candidates[1].measure.value,
+                 candidates[2].measure.value, candidates[3].measure.value};
+  }
   const Candidate* worst = nullptr;
   double worst_ratio = 0.0;
   for (const Candidate& c : candidates) {

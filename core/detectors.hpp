@@ -52,6 +52,14 @@ Measure measure_load_shift(std::span<const Pose> items0, std::span<const Pose> i
 /// Horizontal distance between belt travel and pallet travel since rest (m).
 Measure measure_pallet_slip(const Pose& pallet0, const Pose& pallet, double belt_x, double belt_y);
 
+/// What each detector measured in one frame (update's out-parameter).
+struct DetectorReadings {
+  double tilt_deg = 0.0;
+  double item_slide_m = 0.0;
+  double pallet_slip_m = 0.0;
+  double load_shift_m = 0.0;
+};
+
 /// The online detector: baselines are the rest state; update() returns the first failure, at the
 /// first frame any threshold is crossed (value > threshold). When several cross in the same frame,
 /// the one furthest past its threshold (relative to the threshold) wins.
@@ -61,7 +69,8 @@ class FailureDetector {
                   std::span<const Pose> items0);
 
   std::optional<FailureEvent> update(double t, const Trace::BeltState& belt, const Pose& pallet,
-                                     std::span<const Pose> items) const;
+                                     std::span<const Pose> items,
+                                     DetectorReadings* readings = nullptr) const;
 
   const DetectorThresholds& thresholds() const { return thresholds_; }
 

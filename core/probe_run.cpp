@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include "core/engine.hpp"
+#include "core/quasi_static.hpp"
 #include "core/text.hpp"
 
 namespace pb {
@@ -127,6 +129,7 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   // Co-moving must hold this long before a run stops early (a rocking load passes through
   // matching velocities for an instant).
   comove_needed_ = std::max(1, static_cast<int>(std::lround(0.05 / dt_)));
+  calm_needed_ = std::max(1, static_cast<int>(std::lround(0.01 / dt_)));
   breakpoints_ = breakpoints;
   dwell_needed_ = std::max(1, static_cast<int>(std::lround(o_.skip_dwell_s / dt_)));
   if (n_steps_ <= 0) done_ = true;  // finish() gives the final check
@@ -193,6 +196,47 @@ void ProbeRun::shift(Pose& p) const {
   p.pos[1] += skip_dy_;
 }
 
+// The share of the barrier the load's energy must stay below: the barriers are first-order in the
+// distance (a rocking item's centre of mass rises by (b/2)/h per metre only while the angle is
+// small) and friction dissipates at mu N only while N is the item's weight.
+constexpr double kBarrierShare = 0.5;
+
+double ProbeRun::potential_energy(const mjModel& m, const mjData& d) const {
+  double pe = 0.0;
+  for (int b = 1; b < m.nbody; ++b) {
+    if (b != scene_->layout.belt_body) pe += m.body_mass[b] * d.xipos[3 * b + 2];
+  }
+  return pe * kGravity;
+}
+
+bool ProbeRun::below_barrier(const mjModel& m, const mjData& d, const Trace::BeltState& belt,
+                             const DetectorReadings& r) {
+  const RestBarriers& b = scene_->barriers;
+  const DetectorThresholds& t = o_.thresholds;
+  const double s_item = std::min(t.item_slide_m - r.item_slide_m,
+                                 0.5 * (t.load_shift_m - r.load_shift_m));  // both items move
+  const double s_slip = t.pallet_slip_m - r.pallet_slip_m;
+  const double s_tilt = (t.tip_deg - r.tilt_deg) * std::numbers::pi / 180.0;
+  if (!(s_item > 0.0 && s_slip > 0.0 && s_tilt > 0.0)) return false;
+  const double barrier = std::min({b.item_force_n * s_item, b.pallet_slip_force_n * s_slip,
+                                   b.tilt_moment_nm * s_tilt});
+  const SceneLayout& l = scene_->layout;
+  vrel_.assign(d.qvel, d.qvel + m.nv);
+  vrel_[std::size_t(l.belt_x_dof)] = 0.0;
+  vrel_[std::size_t(l.belt_y_dof)] = 0.0;
+  auto relative = [&](int dof) {
+    vrel_[std::size_t(dof)] -= belt.vx;
+    vrel_[std::size_t(dof) + 1] -= belt.vy;
+  };
+  relative(l.pallet_dof);
+  for (int dof : l.item_dofs) relative(dof);
+  mv_.resize(vrel_.size());
+  mj_mulM(&m, &d, mv_.data(), vrel_.data());
+  double kinetic = 0.0;
+  for (std::size_t i = 0; i < vrel_.size(); ++i) kinetic += 0.5 * vrel_[i] * mv_[i];
+  return kinetic + potential_energy(m, d) - pe0_ < kBarrierShare * barrier;
+}
+
 void ProbeRun::unstable(const std::string& reason) {
   r_.outcome = Outcome::unstable;
   r_.reason = reason;
@@ -239,8 +283,10 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   const Pose pallet = body_pose(d, l.pallet_body);
   read_item_poses(l, d, items_);
   if (o_.record_trace) r_.trace.push(t_next, belt, pallet, items_);
+  if (k == 1) pe0_ = potential_energy(m, d);
+  DetectorReadings readings;
   if (!r_.failure) {
-    if (auto event = detector_.update(t_next, belt, pallet, items_)) {
+    if (auto event = detector_.update(t_next, belt, pallet, items_, &readings)) {
       r_.failure = std::move(event);
       r_.outcome = Outcome::failed;
       if (o_.fail_fast) {
@@ -274,7 +320,8 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
   if (want_stop) {
     comove_steps_ = comoving ? comove_steps_ + 1 : 0;
-    if (comove_steps_ >= comove_needed_) {
+    calm_steps_ = !comoving && below_barrier(m, d, belt, readings) ? calm_steps_ + 1 : 0;
+    if (comove_steps_ >= comove_needed_ || calm_steps_ >= calm_needed_) {
       r_.stopped_early = k < n_steps_;
       finish(m, d);
       return false;

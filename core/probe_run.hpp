@@ -74,6 +74,14 @@ class ProbeRun {
 
  private:
   void unstable(const std::string& reason);
+  // True when the load's energy relative to the belt (kinetic in the belt's frame, potential above
+  // where the run started) is below a share of the least work any detector still needs
+  // (Scene::barriers against what `readings` leaves of each threshold). Only meaningful after the
+  // last breakpoint: the belt's frame is then inertial and the load passive, so it cannot gain the
+  // energy a failure needs.
+  bool below_barrier(const mjModel& model, const mjData& data, const Trace::BeltState& belt,
+                     const DetectorReadings& readings);
+  double potential_energy(const mjModel& model, const mjData& data) const;
   // Plans a co-moving jump from step k_ (see SimOptions::skip_comoving): the steps to skip, or 0.
   int plan_skip() const;
   // Shifts `p` by the pending jump's belt travel.
@@ -90,6 +98,10 @@ class ProbeRun {
   double belt_x0_ = 0.0, belt_y0_ = 0.0, fall_through_z_ = 0.0;
   double command_x_ = 0.0, command_y_ = 0.0;
   int n_steps_ = 0, k_ = 0, comove_needed_ = 1, comove_steps_ = 0;
+  // Deciding early on energy: steps below the barrier in a row, and how many make it certain.
+  int calm_steps_ = 0, calm_needed_ = 1;
+  double pe0_ = 0.0;
+  std::vector<double> vrel_, mv_;
   // Skipping: the profile's breakpoints, the phase of the last step, the co-moving steps within
   // it, and the pending jump (steps, belt travel, belt velocity change) before_step applies.
   std::vector<double> breakpoints_;

@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
 #include "core/json_io.hpp"
+#include "core/pallet_metrics.hpp"
 #include "core/pallet_type.hpp"
+#include "core/quasi_static.hpp"
 #include "core/text.hpp"
 #include "core/validation.hpp"
 #include "core/wrap.hpp"
@@ -336,6 +339,34 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   return x.str();
 }
 
+namespace {
+
+RestBarriers rest_barriers(const Scene& scene) {
+  const PalletConfig& config = scene.config;
+  const mjModel* m = scene.model.get();
+  RestBarriers b;
+  const double total = total_mass_kg(config);
+  b.pallet_slip_force_n = total * scene.friction.belt_pallet.mu_s * kGravity;
+  const Vec3 com = composite_com_m(config);
+  const double lever = std::min(config.base_dims_m[0] / 2 - std::abs(com[0]),
+                                config.base_dims_m[1] / 2 - std::abs(com[1]));
+  b.tilt_moment_nm = total * kGravity * std::max(0.0, lever);
+  b.item_force_n = std::numeric_limits<double>::infinity();
+  const QuasiStaticBounds bounds = quasi_static_bounds(config, scene.friction);
+  for (const auto* list : {&bounds.along, &bounds.across}) {
+    for (const QuasiStaticLimit& q : *list) {
+      if (q.item < 0) continue;
+      const int body = scene.layout.item_bodies[std::size_t(q.item)];
+      if (m->body_jntnum[body] == 0) continue;  // merged: it moves only with what carries it
+      b.item_force_n =
+          std::min(b.item_force_n, config.items[std::size_t(q.item)].weight_kg * q.accel_mps2);
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
 std::optional<std::string> numerical_limits_problem(const Scene& scene) {
   const SceneOptions& o = scene.options;
   if (o.timestep_s > 0.01) {
@@ -424,6 +455,7 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   l.free_items = static_cast<int>(l.item_dofs.size());
   l.contact_pairs = m->npair;
   l.welds = m->neq;
+  scene.barriers = rest_barriers(scene);
   return Result<Scene>{std::move(scene), std::move(diags)};
 }
 

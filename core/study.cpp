@@ -282,8 +282,14 @@ EnvelopeComparison compare_envelopes(const SafetyResult& reference, const Safety
     const Axis axis = kStudyAxes[i];
     const double step = step_of(steps, axis);
     const double ref = limit_of(reference, axis);
-    const double err = std::abs(limit_of(candidate, axis) - ref) / step;
+    const double signed_err = (limit_of(candidate, axis) - ref) / step;
+    const double err = std::abs(signed_err);
     c.error_steps[i] = err;
+    if (err <= 1.0 + kSlack) ++c.limits_within;
+    if (signed_err > 1.0 + kSlack) {
+      ++c.limits_above;
+      c.worst_above_steps = std::max(c.worst_above_steps, signed_err);
+    }
     if (err > c.worst_steps) {
       c.worst_steps = err;
       c.worst_axis = axis;
@@ -347,7 +353,7 @@ std::vector<StudySummary> summarize_study(const std::vector<StudyConfig>& config
     s.is_reference = c.is_reference;
     std::vector<double> wall, cpu;
     std::set<std::string> levels;
-    int within = 0, mode_ok = 0;
+    int within = 0, mode_ok = 0, limits_within = 0;
     for (const StudySample& x : samples) {
       if (x.config != c.name) continue;
       if (x.result) {
@@ -370,6 +376,9 @@ std::vector<StudySummary> summarize_study(const std::vector<StudyConfig>& config
       ++s.pallets;
       const EnvelopeComparison& cmp = *x.comparison;
       if (cmp.within_one_step) ++within;
+      limits_within += cmp.limits_within;
+      s.limits_above += cmp.limits_above;
+      s.worst_above_steps = std::max(s.worst_above_steps, cmp.worst_above_steps);
       if (s.worst_pallet.empty() || cmp.worst_steps > s.worst_error_steps) {
         s.worst_error_steps = cmp.worst_steps;
         s.worst_pallet = x.pallet;
@@ -385,6 +394,8 @@ std::vector<StudySummary> summarize_study(const std::vector<StudyConfig>& config
     s.median_ms = median(wall);
     s.median_cpu_ms = median(cpu);
     s.within_one_step = s.pallets > 0 ? static_cast<double>(within) / s.pallets : 0.0;
+    s.limits_within_one_step =
+        s.pallets > 0 ? static_cast<double>(limits_within) / (4.0 * s.pallets) : 0.0;
     s.mode_agreement = s.mode_pallets > 0 ? static_cast<double>(mode_ok) / s.mode_pallets : 1.0;
     out.push_back(std::move(s));
   }
@@ -421,6 +432,9 @@ Json study_summary_to_json(const StudySummary& s) {
           {"median_ms", s.median_ms},
           {"median_cpu_ms", s.median_cpu_ms},
           {"within_one_step", s.within_one_step},
+          {"limits_within_one_step", s.limits_within_one_step},
+          {"limits_above", s.limits_above},
+          {"worst_above_steps", s.worst_above_steps},
           {"worst_error_steps",
            std::isfinite(s.worst_error_steps) ? Json(s.worst_error_steps) : Json(nullptr)},
           {"worst_pallet", s.worst_pallet},

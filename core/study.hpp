@@ -65,6 +65,9 @@ inline constexpr std::array<Axis, 4> kStudyAxes{Axis::accel, Axis::decel, Axis::
 /// A candidate envelope against the reference's.
 struct EnvelopeComparison {
   std::array<double, 4> error_steps{};  ///< |candidate - reference| / step, per kStudyAxes
+  int limits_within = 0;  ///< of the four, within one step of the reference
+  int limits_above = 0;   ///< of the four, more than one step above it (an unsafe answer)
+  double worst_above_steps = 0.0;  ///< how far above, at worst (0 when none is above)
   double worst_steps = 0.0;
   Axis worst_axis = Axis::accel;
   bool within_one_step = false;  ///< every limit within one step (and the same verdict)
@@ -121,6 +124,11 @@ struct StudySummary {
   double median_ms = 0.0;
   double median_cpu_ms = 0.0;
   double within_one_step = 0.0;  ///< fraction of `pallets`
+  /// Limit by limit: the fraction within one step of the reference (4 a pallet), and how many are
+  /// more than one step above it (unsafe), the worst by how much.
+  double limits_within_one_step = 0.0;
+  int limits_above = 0;
+  double worst_above_steps = 0.0;
   double worst_error_steps = 0.0;
   std::string worst_pallet;
   std::string worst_axis;

@@ -182,7 +182,15 @@ std::optional<std::string> run_batch(Batch& batch, const Belt& belt, int steps, 
   return std::nullopt;
 }
 
-// A whole positive number from a list option (threads, nstep).
+std::string cell(const std::string& text, int width) {
+  std::ostringstream out;
+  out << std::right << std::setw(width) << text;
+  return out.str();
+}
+
+}  // namespace
+
+// A whole positive number from a list option (threads, nstep, sizes).
 std::vector<int> int_list(const Args& args, const std::string& name, std::vector<int> fallback,
                           int lo, int hi) {
   auto values = args.numbers(name);
@@ -197,14 +205,6 @@ std::vector<int> int_list(const Args& args, const std::string& name, std::vector
   }
   return out;
 }
-
-std::string cell(const std::string& text, int width) {
-  std::ostringstream out;
-  out << std::right << std::setw(width) << text;
-  return out.str();
-}
-
-}  // namespace
 
 int run_bench_batch(const Args& args) {
   const std::int64_t sims = args.integer("sims").value_or(64);

@@ -44,6 +44,11 @@ Command batch_command();
 
 /// `bench batch`: the batch engine's scaling table (app/cli/bench_command.cpp).
 int run_bench_batch(const Args& args);
+/// `bench scale`: unwrapped pallets of growing size, each analysed in a child process.
+int run_bench_scale(const Args& args);
+/// Whole numbers from a list option, each in [lo, hi] (a UsageError otherwise), or `fallback`.
+std::vector<int> int_list(const Args& args, const std::string& name, std::vector<int> fallback,
+                          int lo, int hi);
 
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);

@@ -9,6 +9,7 @@
 
 #include "app/cli/commands.hpp"
 #include "core/analyzer.hpp"
+#include "core/reference_search.hpp"
 #include "core/fidelity.hpp"
 #include "core/scenario.hpp"
 #include "core/scene.hpp"
@@ -360,10 +361,13 @@ double median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-// The medians of `runs` cold runs of one scenario; {"scenario", "error"} if one fails.
-Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity) {
-  std::vector<double> solve_ms, envelope_ms, prepare_ms;
+// The medians of `runs` cold runs of one scenario; {"scenario", "error"} if one fails. With
+// `reference`, each run is followed by a cold run of the reference system's search
+// (reference_search.hpp) on the same pallet, so both see the same machine.
+Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity, bool reference) {
+  std::vector<double> solve_ms, envelope_ms, prepare_ms, ref_ms;
   BenchRun last;
+  int ref_sims = 0;
   for (int i = 0; i < runs; ++i) {
     std::cerr << "bench: " << scenario.slug << " run " << i + 1 << "/" << runs << "\n";
     auto run = bench_once(scenario, fidelity);
@@ -372,6 +376,13 @@ Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity) {
     envelope_ms.push_back(run->envelope_ms);
     prepare_ms.push_back(run->prepare_ms);
     last = std::move(*run.value);
+    if (reference) {
+      Analyzer cold(reference_search_options());
+      auto ref = reference_search(cold, scenario.pallet);
+      if (!ref) return {{"scenario", scenario.slug}, {"error", messages_json(ref.diagnostics)}};
+      ref_ms.push_back(ref->wall_ms);
+      ref_sims = ref->sims;
+    }
   }
   const double solve = median(solve_ms);
   const int stepped = last.steps - last.steps_skipped;  // mj_step calls
@@ -390,7 +401,10 @@ Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity) {
           {"sims_run", last.result.sims_run},
           {"max_speed_mps", last.result.max_speed_mps},
           {"max_accel_mps2", last.result.max_accel_mps2},
-          {"verdict", last.result.verdict}};
+          {"verdict", last.result.verdict},
+          {"ref_ms", reference ? Json(median(ref_ms)) : Json(nullptr)},
+          {"ref_sims", reference ? Json(ref_sims) : Json(nullptr)},
+          {"ratio", reference ? Json(median(ref_ms) / median(envelope_ms)) : Json(nullptr)}};
 }
 
 // A cell padded to `width`: text to the left, numbers to the right.
@@ -421,7 +435,10 @@ void print_bench_table(const Json& rows) {
                                        {"sims_run", "sims", 5, 0},
                                        {"max_speed_mps", "speed", 6, 2},
                                        {"max_accel_mps2", "accel", 6, 2},
-                                       {"verdict", "verdict", 7, -1}};
+                                       {"verdict", "verdict", 7, -1},
+                                       {"ref_ms", "ref_ms", 8, 1},
+                                       {"ref_sims", "ref_sims", 8, 0},
+                                       {"ratio", "ratio", 6, 1}};
   auto print_line = [](std::string line) {
     line.erase(line.find_last_not_of(' ') + 1);
     std::cout << line << "\n";
@@ -438,9 +455,10 @@ void print_bench_table(const Json& rows) {
     std::string line;
     for (const auto& c : columns) {
       const Json& v = row[c.key];
-      line += cell(c.decimals < 0 ? v.get<std::string>() : fixed(v.get<double>(), c.decimals),
-                   c.width, c.decimals < 0) +
-              " ";
+      const std::string text = v.is_null()        ? std::string("-")
+                               : c.decimals < 0   ? v.get<std::string>()
+                                                  : fixed(v.get<double>(), c.decimals);
+      line += cell(text, c.width, c.decimals < 0) + " ";
     }
     print_line(line);
   }
@@ -448,11 +466,15 @@ void print_bench_table(const Json& rows) {
 
 int run_bench(const Args& args) {
   if (!args.positionals().empty()) {
-    if (args.positionals().front() != "batch") {
-      throw UsageError{"bench: the only sub-benchmark is 'batch', not '" +
-                       args.positionals().front() + "'"};
+    const std::string& what = args.positionals().front();
+    if (what == "batch") return run_bench_batch(args);
+    if (what == "scale") return run_bench_scale(args);
+    throw UsageError{"bench: the sub-benchmarks are 'batch' and 'scale', not '" + what + "'"};
+  }
+  for (const char* scale_only : {"sizes", "patterns"}) {
+    if (args.flag(scale_only)) {
+      throw UsageError{std::string("bench: --") + scale_only + " belongs to 'bench scale'"};
     }
-    return run_bench_batch(args);
   }
   for (const char* batch_only : {"sims", "threads", "nstep", "steps"}) {
     if (args.flag(batch_only)) {
@@ -476,7 +498,8 @@ int run_bench(const Args& args) {
   Json rows = Json::array();
   int exit_code = kExitOk;
   for (const auto& scenario : scenarios) {
-    rows.push_back(bench_scenario(scenario, static_cast<int>(runs), fidelity));
+    rows.push_back(
+        bench_scenario(scenario, static_cast<int>(runs), fidelity, !args.flag("no-reference")));
     if (rows.back().contains("error")) exit_code = kExitFailure;
   }
   if (args.flag("json")) {
@@ -555,11 +578,18 @@ std::vector<Command> physics_commands() {
         1000000},
        run_analyze},
       {{"bench",
-        "bench [batch] [--runs N] [--json] [--scenario SLUG] [--sims N] [--threads 1,2,...] "
-        "[--nstep 1,10] [--steps S]",
+        "bench [batch|scale] [--runs N] [--json] [--scenario SLUG] [--no-reference] [--sims N] "
+        "[--threads 1,2,...] [--nstep 1,10] [--steps S] [--sizes 24,48,...] "
+        "[--patterns column,brick]",
         "Time every curated scenario (or one): the solve of its suggested profile and its "
         "envelope from cold caches (compile and settle included, and reported apart), each the "
-        "median of N runs. A table by default. 'bench batch' is the batch engine's scaling "
+        "median of N runs, and the reference system's search on the same pallet after each run "
+        "(full model at 2 ms, plain bisection of speed at 1 m/s^2 and of acceleration towards 1 "
+        "m/s: ref_ms, and ratio = ref_ms / envelope_ms). A table by default. 'bench scale' "
+        "analyses unwrapped pallets of about --sizes cartons (12 a layer of 0.30 x 0.25 x 0.20 m "
+        "dairy cases; column and brick), each in a child process: items, degrees of freedom, "
+        "contacts at rest, microseconds per step, simulations, envelope ms and the child's peak "
+        "resident memory. 'bench batch' is the batch engine's scaling "
         "table instead: simulation-steps per second of a serial mj_step loop and of the batch "
         "at each thread count and nstep, on one curated pallet (default stable-dairy-slab) "
         "settled once and riding a belt that keeps accelerating; each row also gives CPU "
@@ -570,6 +600,9 @@ std::vector<Command> physics_commands() {
          {"scenario", "SLUG", "only this curated scenario"},
          {"fidelity", "LEVEL",
           enum_choices<Fidelity>() + ": the model of every run (default auto)"},
+         {"no-reference", "", "skip the reference system's search"},
+         {"sizes", "LIST", "scale: cartons per pallet, multiples of 12 (default 24,48,72,96)"},
+         {"patterns", "LIST", "scale: layer patterns, column and/or brick (default both)"},
          {"sims", "N", "batch: simulations (default 64)"},
          {"threads", "LIST", "batch: thread counts to time (default 1,2)"},
          {"nstep", "LIST", "batch: steps per call to time (default 1,10)"},

@@ -152,7 +152,8 @@ void write_summary_csv(const fs::path& path, const std::vector<StudySummary>& ro
   std::ofstream out(path, std::ios::trunc);
   out << "config,description,fidelity,is_default,is_reference_equivalent,is_reference,pallets,"
          "errors,median_ms,median_cpu_ms,within_one_step,worst_error_steps,worst_pallet,"
-         "worst_axis,mode_pallets,mode_agreement,pareto\n";
+         "worst_axis,mode_pallets,mode_agreement,pareto,limits_within_one_step,limits_above,"
+         "worst_above_steps\n";
   for (const auto& r : rows) {
     out << csv_field(r.config) << "," << csv_field(r.description) << "," << csv_field(r.fidelity)
         << "," << r.is_default << "," << r.is_reference_equivalent << "," << r.is_reference << ","
@@ -160,7 +161,8 @@ void write_summary_csv(const fs::path& path, const std::vector<StudySummary>& ro
         << fixed(r.median_cpu_ms, 3) << "," << fixed(r.within_one_step, 4) << ","
         << number_text(r.worst_error_steps, 3) << "," << csv_field(r.worst_pallet) << ","
         << csv_field(r.worst_axis) << "," << r.mode_pallets << "," << fixed(r.mode_agreement, 4)
-        << "," << r.pareto << "\n";
+        << "," << r.pareto << "," << fixed(r.limits_within_one_step, 4) << "," << r.limits_above
+        << "," << fixed(r.worst_above_steps, 3) << "\n";
   }
 }
 
@@ -199,6 +201,7 @@ void print_summary_table(const std::vector<StudySummary>& rows) {
   print_line(cell("config", 22, true) + " " + cell("fidelity", 13, true) + " " +
              cell("n", 4, false) + " " + cell("median_ms", 10, false) + " " +
              cell("cpu_ms", 10, false) + " " + cell("within_1", 8, false) + " " +
+             cell("limits_1", 8, false) + " " + cell("above", 5, false) + " " +
              cell("worst", 7, false) + " " + cell("modes", 6, false) + " " +
              cell("pareto", 6, true) + " " + cell("worst pallet (axis)", 20, true));
   for (const auto& r : rows) {
@@ -211,6 +214,8 @@ void print_summary_table(const std::vector<StudySummary>& rows) {
                cell(fixed(r.median_ms, 1), 10, false) + " " +
                cell(fixed(r.median_cpu_ms, 1), 10, false) + " " +
                cell(fixed(r.within_one_step * 100.0, 1) + "%", 8, false) + " " +
+               cell(fixed(r.limits_within_one_step * 100.0, 1) + "%", 8, false) + " " +
+               cell(std::to_string(r.limits_above), 5, false) + " " +
                cell(number_text(r.worst_error_steps, 2), 7, false) + " " +
                cell(r.mode_pallets > 0 ? fixed(r.mode_agreement * 100.0, 0) + "%" : "-", 6, false) +
                " " + cell(r.pareto ? "*" : "", 6, true) + " " +
@@ -219,7 +224,9 @@ void print_summary_table(const std::vector<StudySummary>& rows) {
   std::cout
       << "(D) shipped default, (RE) reference-equivalent, (R) the reference; within_1 = share "
          "of pallets within one search step (0.1 m/s^2, 0.01 g, 0.05 m/s) of the reference "
-         "on every limit; worst in steps; modes = governing-mode agreement where the "
+         "on every limit; limits_1 = share of limits within one step; above = limits more than "
+         "one step above the reference (unsafe); worst in steps; modes = governing-mode "
+         "agreement where the "
          "reference fails more than one step below the ceiling; * = Pareto front\n";
 }
 

@@ -1,0 +1,199 @@
+// SPDX-License-Identifier: MIT
+// `bench scale`: how the analysis of an unwrapped load grows with its size. Each pallet is analysed
+// in a child process (forked before any thread exists), so that its peak resident memory is its
+// own: the parent reads the child's JSON row from a pipe and its peak RSS from wait4.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/cli/commands.hpp"
+#include "core/analyzer.hpp"
+#include "core/catalog.hpp"
+#include "core/layer_layout.hpp"
+#include "core/probe_run.hpp"
+#include "core/text.hpp"
+
+namespace pb::cli {
+
+namespace {
+
+constexpr int kPerLayer = 12;  // 4 x 3 dairy cases of 0.30 x 0.25 m fill a EUR deck
+constexpr const char* kSku = "SKU-FD-003";
+
+Result<PalletConfig> scale_pallet(LayerPattern pattern, int items) {
+  ScannerInputs in;
+  in.pallet_id = "scale-" + std::string(to_string(pattern)) + "-" + std::to_string(items);
+  in.pattern = pattern;
+  in.layers = std::max(1, items / kPerLayer);
+  in.items_per_layer = kPerLayer;
+  in.skus = {kSku};
+  in.wrap = WrapType::none;
+  return build_from_scanner(in, Catalog::builtin());
+}
+
+// The analysis of one pallet, as the child runs it: a cold Analyzer's envelope.
+Json analyse(const PalletConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  Analyzer analyzer;
+  auto env = analyzer.envelope(config);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  Json row = {{"items", config.items.size()}};
+  if (!env) {
+    row["error"] = env.diagnostics.empty() ? "failed" : env.diagnostics.front().message;
+    return row;
+  }
+  auto prepared = analyzer.prepare(config);  // cached
+  const PreparedPallet& p = **prepared.value;
+  const mjModel* m = p.scene->model.get();
+  auto data = make_data(m);
+  int contacts = -1;
+  if (data) {
+    load_rest_state(*m, p.scene->layout, p.rest, 0.0, **data);
+    mj_forward(m, data->get());
+    contacts = (*data)->ncon;
+  }
+  double wall = 0.0;
+  long steps = 0;
+  for (const Probe& probe : env->probes) {
+    wall += probe.wall_ms;
+    steps += probe.steps;
+  }
+  row["dofs"] = m->nv;
+  row["contacts"] = contacts;
+  row["us_per_step"] = steps > 0 ? 1000.0 * wall / double(steps) : 0.0;
+  row["sims"] = env->result.sims_run;
+  row["envelope_ms"] = ms;
+  row["fidelity"] = env->result.fidelity;
+  row["verdict"] = env->result.verdict;
+  row["max_accel_mps2"] = env->result.max_accel_mps2;
+  row["max_lateral_g"] = env->result.max_lateral_g;
+  return row;
+}
+
+// analyse() in a child process; its row with "peak_rss_mb" added.
+Json analyse_in_child(const PalletConfig& config) {
+  int fd[2];
+  if (pipe(fd) != 0) return {{"error", "could not create a pipe"}};
+  std::cout.flush();
+  const pid_t pid = fork();
+  if (pid < 0) return {{"error", "could not fork"}};
+  if (pid == 0) {
+    close(fd[0]);
+    const std::string text = analyse(config).dump();
+    std::size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = write(fd[1], text.data() + done, text.size() - done);
+      if (n <= 0) break;
+      done += std::size_t(n);
+    }
+    close(fd[1]);
+    _exit(0);
+  }
+  close(fd[1]);
+  std::string text;
+  char buf[4096];
+  for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) text.append(buf, std::size_t(n));
+  close(fd[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  Json row = Json::parse(text, nullptr, false);
+  if (row.is_discarded() || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    return {{"error", "the analysis process ended abnormally (status " + std::to_string(status) +
+                          ")"}};
+  }
+  row["peak_rss_mb"] = double(usage.ru_maxrss) / 1024.0;
+  return row;
+}
+
+}  // namespace
+
+int run_bench_scale(const Args& args) {
+  const std::vector<int> sizes = int_list(args, "sizes", {24, 48, 72, 96}, kPerLayer, 400);
+  for (int n : sizes) {
+    if (n % kPerLayer != 0) {
+      throw UsageError{"bench: --sizes must be multiples of " + std::to_string(kPerLayer) +
+                       " (cartons a layer), not " + std::to_string(n)};
+    }
+  }
+  std::vector<LayerPattern> patterns;
+  if (auto text = args.text("patterns")) {
+    std::istringstream list(*text);
+    for (std::string name; std::getline(list, name, ',');) {
+      auto pattern = enum_from_string<LayerPattern>(name);
+      if (!pattern || (*pattern != LayerPattern::column && *pattern != LayerPattern::brick)) {
+        throw UsageError{"bench: --patterns takes column and brick, not '" + name + "'"};
+      }
+      patterns.push_back(*pattern);
+    }
+  } else {
+    patterns = {LayerPattern::column, LayerPattern::brick};
+  }
+  const std::int64_t runs = args.integer("runs").value_or(1);
+  if (runs < 1 || runs > 100) throw UsageError{"bench: --runs must be between 1 and 100"};
+  Json rows = Json::array();
+  int exit_code = kExitOk;
+  for (LayerPattern pattern : patterns) {
+    for (int n : sizes) {
+      Json row = {{"pattern", to_string(pattern)}, {"size", n}};
+      auto config = scale_pallet(pattern, n);
+      if (!config) {
+        row["error"] = config.diagnostics.front().pointer + ": " + config.diagnostics.front().message;
+        rows.push_back(row);
+        exit_code = kExitFailure;
+        continue;
+      }
+      std::vector<double> ms;
+      double rss = 0.0;
+      Json last;
+      for (int r = 0; r < runs; ++r) {
+        std::cerr << "bench scale: " << to_string(pattern) << " " << n << " run " << r + 1 << "/"
+                  << runs << "\n";
+        last = analyse_in_child(*config.value);
+        if (last.contains("error")) break;
+        ms.push_back(last["envelope_ms"].get<double>());
+        rss = std::max(rss, last["peak_rss_mb"].get<double>());
+      }
+      row.update(last);
+      if (!last.contains("error")) {
+        std::sort(ms.begin(), ms.end());
+        row["envelope_ms"] = ms[ms.size() / 2];
+        row["peak_rss_mb"] = rss;
+        row["runs"] = runs;
+      } else {
+        exit_code = kExitFailure;
+      }
+      rows.push_back(row);
+    }
+  }
+  if (args.flag("json")) {
+    print_json(rows);
+    return exit_code;
+  }
+  std::printf("%-8s %5s %5s %8s %9s %5s %11s %11s %s\n", "pattern", "items", "dofs", "contacts",
+              "us/step", "sims", "envelope_ms", "peak_rss_mb", "verdict");
+  for (const Json& r : rows) {
+    if (r.contains("error")) {
+      std::printf("%-8s %5d error: %s\n", r["pattern"].get<std::string>().c_str(),
+                  r["size"].get<int>(), r["error"].get<std::string>().c_str());
+      continue;
+    }
+    std::printf("%-8s %5d %5d %8d %9.1f %5d %11.0f %11.0f %s\n",
+                r["pattern"].get<std::string>().c_str(), r["items"].get<int>(),
+                r["dofs"].get<int>(), r["contacts"].get<int>(), r["us_per_step"].get<double>(),
+                r["sims"].get<int>(), r["envelope_ms"].get<double>(),
+                r["peak_rss_mb"].get<double>(), r["verdict"].get<std::string>().c_str());
+  }
+  return exit_code;
+}
+
+}  // namespace pb::cli
