@@ -68,7 +68,7 @@ class BenchCliTest : public QObject {
     QVERIFY(scenario.err.contains("no curated scenario 'nope'"));
     Run word = cli({"bench", "sideways"});
     QCOMPARE(word.exit_code, 2);
-    QVERIFY(word.err.contains("the only sub-benchmark is 'batch'"));
+    QVERIFY(word.err.contains("the sub-benchmarks are 'batch' and 'scale'"));
     Run stray = cli({"bench", "--sims", "4"});
     QCOMPARE(stray.exit_code, 2);
     QVERIFY(stray.err.contains("--sims belongs to 'bench batch'"));

@@ -428,6 +428,40 @@ class PhysicsCliTest : public QObject {
     QVERIFY(std::abs(num(o, "us_per_step") * steps - num(o, "solve_ms_median") * 1000.0) < 1e-6);
     QCOMPARE(str(o, "outcome"), QStringLiteral("failed"));  // as `solve` of the same scenario
     QCOMPARE(str(o, "verdict"), QStringLiteral("ok"));
+    // The reference system's search on the same pallet, and the ratio of the two.
+    QVERIFY(num(o, "ref_ms") > 0.0);
+    QVERIFY(o.value(QStringLiteral("ref_sims")).toInt() >= 2);
+    QVERIFY(std::abs(num(o, "ratio") - num(o, "ref_ms") / num(o, "envelope_ms_median")) < 1e-9);
+  }
+
+  // --no-reference skips it: the keys are there, null.
+  void benchWithoutReference() {
+    Run r = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("1"),
+                 QStringLiteral("--json"), QStringLiteral("--no-reference"),
+                 QStringLiteral("--scenario"), QStringLiteral("stable-dairy-slab")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonObject o = r.json().array()[0].toObject();
+    QVERIFY(o.value(QStringLiteral("ref_ms")).isNull() && o.value(QStringLiteral("ratio")).isNull());
+  }
+
+  // bench scale: one unwrapped column pallet of 24 cases, analysed in a child process.
+  void benchScale() {
+    Run r = cli({QStringLiteral("bench"), QStringLiteral("scale"), QStringLiteral("--sizes"),
+                 QStringLiteral("24"), QStringLiteral("--patterns"), QStringLiteral("column"),
+                 QStringLiteral("--json")});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 1);
+    const QJsonObject o = rows[0].toObject();
+    QCOMPARE(o.value(QStringLiteral("items")).toInt(), 24);
+    QCOMPARE(o.value(QStringLiteral("dofs")).toInt(), 6 * 24 + 8);  // belt x, y; pallet; cases
+    QVERIFY(o.value(QStringLiteral("contacts")).toInt() >= 4 * 24);  // 4 a resting face at least
+    QVERIFY(num(o, "peak_rss_mb") > 0.0 && num(o, "us_per_step") > 0.0);
+    QVERIFY(o.value(QStringLiteral("sims")).toInt() > 0);
+    Run bad = cli({QStringLiteral("bench"), QStringLiteral("scale"), QStringLiteral("--sizes"),
+                   QStringLiteral("25")});
+    QCOMPARE(bad.exit_code, 2);
+    QVERIFY(bad.err.contains("multiples of 12"));
   }
 
   void benchTable() {
@@ -439,7 +473,7 @@ class PhysicsCliTest : public QObject {
     QVERIFY(lines[0].startsWith("scenario "));
     QVERIFY(lines[0].contains("solve_ms") && lines[0].contains("envelope_ms"));
     QVERIFY(lines[1].startsWith("top-heavy-surprise "));
-    QCOMPARE(lines[1].simplified().split(' ').size(), 14);  // one cell per column
+    QCOMPARE(lines[1].simplified().split(' ').size(), 17);  // one cell per column
     QVERIFY(!lines[1].endsWith(' '));
   }
 
