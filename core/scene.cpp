@@ -352,7 +352,11 @@ RestBarriers rest_barriers(const Scene& scene) {
                                 config.base_dims_m[1] / 2 - std::abs(com[1]));
   b.tilt_moment_nm = total * kGravity * std::max(0.0, lever);
   b.item_force_n = std::numeric_limits<double>::infinity();
-  const QuasiStaticBounds bounds = quasi_static_bounds(config, scene.friction);
+  // A wrap only adds resistance (its welds store what they take and give back no more), so a free
+  // item of a wrapped load is held at least by its own onsets: those of the load unwrapped.
+  PalletConfig loose = config;
+  loose.wrap = WrapType::none;
+  const QuasiStaticBounds bounds = quasi_static_bounds(loose, scene.friction);
   for (const auto* list : {&bounds.along, &bounds.across}) {
     for (const QuasiStaticLimit& q : *list) {
       if (q.item < 0) continue;

@@ -110,7 +110,8 @@ struct SceneLayout {
 /// an angle theta about the pallet's bottom edge costs M g lever theta.
 struct RestBarriers {
   /// The least m_i x onset_i over the free items (slip on what carries it, tip of the sub-stack
-  /// it carries over its bottom edge; infinite when no item is free), N.
+  /// it carries over its bottom edge; a wrapped load's as if unwrapped: a wrap only adds
+  /// resistance; infinite when no item is free), N.
   double item_force_n = 0.0;
   double pallet_slip_force_n = 0.0;  ///< M_total mu_belt g
   double tilt_moment_nm = 0.0;       ///< M_total g (the centre of mass's distance to the edge)
