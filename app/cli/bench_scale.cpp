@@ -7,8 +7,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -52,6 +54,10 @@ Json analyse(const PalletConfig& config) {
     return row;
   }
   auto prepared = analyzer.prepare(config);  // cached
+  if (!prepared) {
+    row["error"] = prepared.diagnostics.empty() ? "failed" : prepared.diagnostics.front().message;
+    return row;
+  }
   const PreparedPallet& p = **prepared.value;
   const mjModel* m = p.scene->model.get();
   auto data = make_data(m);
@@ -85,7 +91,11 @@ Json analyse_in_child(const PalletConfig& config) {
   if (pipe(fd) != 0) return {{"error", "could not create a pipe"}};
   std::cout.flush();
   const pid_t pid = fork();
-  if (pid < 0) return {{"error", "could not fork"}};
+  if (pid < 0) {
+    close(fd[0]);
+    close(fd[1]);
+    return {{"error", "could not fork"}};
+  }
   if (pid == 0) {
     close(fd[0]);
     const std::string text = analyse(config).dump();
@@ -105,11 +115,18 @@ Json analyse_in_child(const PalletConfig& config) {
   close(fd[0]);
   int status = 0;
   rusage usage{};
-  wait4(pid, &status, 0, &usage);
+  while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+  }
   Json row = Json::parse(text, nullptr, false);
+  // A child that dies writes no row: say how it ended (a SIGKILL is usually the OOM killer, an
+  // abort an uncaught exception such as bad_alloc), with the memory it had reached.
   if (row.is_discarded() || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    return {{"error", "the analysis process ended abnormally (status " + std::to_string(status) +
-                          ")"}};
+    const std::string how = WIFSIGNALED(status)
+                                ? "was killed by signal " + std::to_string(WTERMSIG(status)) +
+                                      " (" + strsignal(WTERMSIG(status)) + ")"
+                                : "exited with status " + std::to_string(WEXITSTATUS(status));
+    return {{"error", "the analysis process " + how + " at a peak of " +
+                          fixed(double(usage.ru_maxrss) / 1024.0, 0) + " MB resident"}};
   }
   row["peak_rss_mb"] = double(usage.ru_maxrss) / 1024.0;
   return row;
@@ -147,7 +164,8 @@ int run_bench_scale(const Args& args) {
       Json row = {{"pattern", to_string(pattern)}, {"size", n}};
       auto config = scale_pallet(pattern, n);
       if (!config) {
-        row["error"] = config.diagnostics.front().pointer + ": " + config.diagnostics.front().message;
+        row["error"] =
+            config.diagnostics.front().pointer + ": " + config.diagnostics.front().message;
         rows.push_back(row);
         exit_code = kExitFailure;
         continue;

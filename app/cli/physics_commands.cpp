@@ -595,7 +595,9 @@ std::vector<Command> physics_commands() {
         "settled once and riding a belt that keeps accelerating; each row also gives CPU "
         "seconds (a loaded machine shows there) and whether it ended bitwise where the serial "
         "loop did (exit 1 if not).",
-        {{"runs", "N", "runs per scenario, or per configuration for batch (default 3)"},
+        {{"runs", "N",
+          "runs per scenario (default 3), per configuration for batch (default 3), or per "
+          "pallet for scale (a fresh child process each; default 1)"},
          {"json", "", "print a JSON array instead of the table"},
          {"scenario", "SLUG", "only this curated scenario"},
          {"fidelity", "LEVEL",

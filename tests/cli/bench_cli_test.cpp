@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// `palletballet-cli bench batch`: the scaling table's rows and its bad input. Tiny sizes: this
-// checks the verb, never a timing.
+// `palletballet-cli bench`'s side tables: the reference system's search beside ours, `bench scale`
+// (unwrapped pallets in child processes) and `bench batch` (the scaling table), with their bad
+// input. Tiny sizes: this checks the verb, never a timing.
 #include <QJsonArray>
 #include <QJsonObject>
 #include <QtTest>
@@ -10,10 +11,66 @@
 using pb::test::cli;
 using pb::test::Run;
 
+namespace {
+
+double num(const QJsonObject& o, const char* key) {
+  return o.value(QLatin1String(key)).toDouble();
+}
+
+}  // namespace
+
 class BenchCliTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // The reference system's search (core/reference_search.hpp) runs after ours on the same pallet:
+  // its median wall time and the ratio to our envelope's, as positive numbers.
+  void referenceColumns() {
+    Run r = cli({"bench", "--scenario", "stable-dairy-slab", "--runs", "1", "--json"});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 1);
+    const QJsonObject o = rows[0].toObject();
+    QVERIFY(o.value("ref_ms").isDouble() && o.value("ratio").isDouble());
+    QVERIFY(num(o, "ref_ms") > 0.0);
+    QVERIFY(num(o, "ratio") > 0.0);
+    QVERIFY(o.value("ref_sims").toInt() >= 2);  // the top of each axis at least
+  }
+
+  // bench scale: one unwrapped column pallet of about 24 cases, analysed in a child process whose
+  // peak resident memory is the row's.
+  void scaleJson() {
+    Run r =
+        cli({"bench", "scale", "--sizes", "24", "--patterns", "column", "--runs", "1", "--json"});
+    QVERIFY2(r.exit_code == 0, r.err.constData());
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 1);
+    const QJsonObject o = rows[0].toObject();
+    QVERIFY2(!o.contains("error"), qPrintable(o.value("error").toString()));
+    QCOMPARE(o.value("pattern").toString(), QString("column"));
+    const int items = o.value("items").toInt();
+    QVERIFY2(items >= 20 && items <= 28, qPrintable(QString::number(items)));
+    // Six a free carton, the belt's two and the pallet's six at most (fewer if items merge).
+    const int dofs = o.value("dofs").toInt();
+    QVERIFY(dofs > 0 && dofs <= 6 * items + 8);
+    QVERIFY(o.value("contacts").toInt() >= 4 * items);  // every carton rests on a face
+    QVERIFY(num(o, "peak_rss_mb") > 0.0);
+    QVERIFY(num(o, "us_per_step") > 0.0 && num(o, "envelope_ms") > 0.0);
+    QVERIFY(o.value("sims").toInt() > 0);
+  }
+
+  void scaleBadInput() {
+    Run size = cli({"bench", "scale", "--sizes", "25"});
+    QCOMPARE(size.exit_code, 2);
+    QVERIFY(size.err.contains("multiples of 12"));
+    Run pattern = cli({"bench", "scale", "--patterns", "pinwheel"});
+    QCOMPARE(pattern.exit_code, 2);
+    QVERIFY(pattern.err.contains("--patterns takes column and brick"));
+    Run stray = cli({"bench", "--sizes", "24"});
+    QCOMPARE(stray.exit_code, 2);
+    QVERIFY(stray.err.contains("--sizes belongs to 'bench scale'"));
+  }
+
   void batchJson() {
     Run r = cli({"bench", "batch", "--sims", "4", "--steps", "10", "--runs", "1", "--threads",
                  "1,2", "--nstep", "1,5", "--json"});

@@ -444,26 +444,6 @@ class PhysicsCliTest : public QObject {
     QVERIFY(o.value(QStringLiteral("ref_ms")).isNull() && o.value(QStringLiteral("ratio")).isNull());
   }
 
-  // bench scale: one unwrapped column pallet of 24 cases, analysed in a child process.
-  void benchScale() {
-    Run r = cli({QStringLiteral("bench"), QStringLiteral("scale"), QStringLiteral("--sizes"),
-                 QStringLiteral("24"), QStringLiteral("--patterns"), QStringLiteral("column"),
-                 QStringLiteral("--json")});
-    QVERIFY2(r.exit_code == 0, r.err.constData());
-    const QJsonArray rows = r.json().array();
-    QCOMPARE(rows.size(), 1);
-    const QJsonObject o = rows[0].toObject();
-    QCOMPARE(o.value(QStringLiteral("items")).toInt(), 24);
-    QCOMPARE(o.value(QStringLiteral("dofs")).toInt(), 6 * 24 + 8);  // belt x, y; pallet; cases
-    QVERIFY(o.value(QStringLiteral("contacts")).toInt() >= 4 * 24);  // 4 a resting face at least
-    QVERIFY(num(o, "peak_rss_mb") > 0.0 && num(o, "us_per_step") > 0.0);
-    QVERIFY(o.value(QStringLiteral("sims")).toInt() > 0);
-    Run bad = cli({QStringLiteral("bench"), QStringLiteral("scale"), QStringLiteral("--sizes"),
-                   QStringLiteral("25")});
-    QCOMPARE(bad.exit_code, 2);
-    QVERIFY(bad.err.contains("multiples of 12"));
-  }
-
   void benchTable() {
     Run r = cli({QStringLiteral("bench"), QStringLiteral("--runs"), QStringLiteral("1"),
                  QStringLiteral("--scenario"), QStringLiteral("top-heavy-surprise")});
