@@ -31,11 +31,10 @@ SceneOptions Analyzer::scene_options_for(const FidelityChoice& choice) const {
   o.merge_wrapped = choice.level == Fidelity::reduced;
   o.rigid_carrier = choice.rigid_carrier;
   // A clustered load with no free item is one rigid body, as the reduced model is: its numerics.
-  const bool one_body =
-      choice.level == Fidelity::reduced ||
-      (choice.level == Fidelity::clustered &&
-       std::none_of(o.rigid_carrier.begin(), o.rigid_carrier.end(),
-                    [](int c) { return c == kFreeItem; }));
+  const bool one_body = choice.level == Fidelity::reduced ||
+                        (choice.level == Fidelity::clustered &&
+                         std::none_of(o.rigid_carrier.begin(), o.rigid_carrier.end(),
+                                      [](int c) { return c == kFreeItem; }));
   if (!one_body && options_.full_model_timestep_s) o.timestep_s = *options_.full_model_timestep_s;
   return o;
 }

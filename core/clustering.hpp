@@ -20,7 +20,7 @@ inline constexpr int kOnPallet = -1;
 
 struct Clustering {
   std::vector<int> carrier;  ///< per item
-  double reach_mps2 = 0.0;  ///< the most the load can be accelerated (what the onsets beat)
+  double reach_mps2 = 0.0;   ///< the most the load can be accelerated (what the onsets beat)
 
   /// The item (k >= 0) or the pallet (kOnPallet) whose rigid body item `i` belongs to.
   int root(int i) const;

@@ -108,8 +108,7 @@ FailureDetector::FailureDetector(const DetectorThresholds& thresholds, const Pos
       rest_distances_(pair_distances(items0)) {}
 
 std::optional<FailureEvent> FailureDetector::update(double t, const Trace::BeltState& belt,
-                                                    const Pose& pallet,
-                                                    std::span<const Pose> items,
+                                                    const Pose& pallet, std::span<const Pose> items,
                                                     DetectorReadings* readings) const {
   struct Candidate {
     FailureMode mode;

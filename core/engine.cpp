@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/engine.hpp"
 
-#include <atomic>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>

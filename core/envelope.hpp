@@ -76,7 +76,7 @@ struct Probe {
   FailureMode mode = FailureMode::no_failure;
   double failure_time_s = 0.0;
   double wall_ms = 0.0;
-  int steps = 0;          ///< mj_step calls (profile steps reached minus those jumped)
+  int steps = 0;            ///< mj_step calls (profile steps reached minus those jumped)
   double sim_time_s = 0.0;  ///< profile time reached
 };
 

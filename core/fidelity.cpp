@@ -39,7 +39,8 @@ FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction
                 std::to_string(free) + " free",
             c.carrier};
   }
-  if (requested == Fidelity::clustered) return {Fidelity::full, "wrapped: its welds hold the items", {}};
+  if (requested == Fidelity::clustered)
+    return {Fidelity::full, "wrapped: its welds hold the items", {}};
   if (requested == Fidelity::reduced) return {requested, "requested", {}};
   double heaviest = 0.0;
   for (const auto& item : config.items) heaviest = std::max(heaviest, item.weight_kg);
@@ -50,16 +51,15 @@ FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction
   const double deflection = heaviest * std::max(0.0, accel - carried) / wrap.stiffness_n_per_m;
   const double allowed = 0.25 * thresholds.load_shift_m;
   if (deflection < allowed) {
-    return {Fidelity::reduced, "the " + std::string(to_string(config.wrap)) +
-                                   " wrap holds every item within " +
-                                   fixed(deflection * 1000.0, 1) + " mm (below " +
-                                   fixed(allowed * 1000.0, 1) + " mm)",
+    return {Fidelity::reduced,
+            "the " + std::string(to_string(config.wrap)) + " wrap holds every item within " +
+                fixed(deflection * 1000.0, 1) + " mm (below " + fixed(allowed * 1000.0, 1) + " mm)",
             {}};
   }
-  return {Fidelity::full, "the " + std::string(to_string(config.wrap)) +
-                              " wrap lets an item move " + fixed(deflection * 1000.0, 1) +
-                              " mm (above " + fixed(allowed * 1000.0, 1) +
-                              " mm): items are simulated",
+  return {Fidelity::full,
+          "the " + std::string(to_string(config.wrap)) + " wrap lets an item move " +
+              fixed(deflection * 1000.0, 1) + " mm (above " + fixed(allowed * 1000.0, 1) +
+              " mm): items are simulated",
           {}};
 }
 

@@ -218,8 +218,8 @@ bool ProbeRun::below_barrier(const mjModel& m, const mjData& d, const Trace::Bel
   const double s_slip = t.pallet_slip_m - r.pallet_slip_m;
   const double s_tilt = (t.tip_deg - r.tilt_deg) * std::numbers::pi / 180.0;
   if (!(s_item > 0.0 && s_slip > 0.0 && s_tilt > 0.0)) return false;
-  const double barrier = std::min({b.item_force_n * s_item, b.pallet_slip_force_n * s_slip,
-                                   b.tilt_moment_nm * s_tilt});
+  const double barrier = std::min(
+      {b.item_force_n * s_item, b.pallet_slip_force_n * s_slip, b.tilt_moment_nm * s_tilt});
   const SceneLayout& l = scene_->layout;
   vrel_.assign(d.qvel, d.qvel + m.nv);
   vrel_[std::size_t(l.belt_x_dof)] = 0.0;

@@ -12,7 +12,7 @@ namespace pb {
 
 /// What the reference's two searches found.
 struct ReferenceSearch {
-  double max_speed_mps = 0.0;  ///< speed axis: ramps at 1 m/s^2, bisected on [0.1, 2.0] by 0.1
+  double max_speed_mps = 0.0;   ///< speed axis: ramps at 1 m/s^2, bisected on [0.1, 2.0] by 0.1
   double max_accel_mps2 = 0.0;  ///< accel axis: ramps to 1 m/s, bisected on [0.1, 5.0] by 0.2
   int sims = 0;
   double wall_ms = 0.0;  ///< compile and settle included

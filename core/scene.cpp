@@ -160,8 +160,7 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
     for (std::size_t j = i + 1; j < n; ++j) {
       const Box& a = p.boxes[i];
       const Box& b = p.boxes[j];
-      if (p.rigid.root(int(i)) != p.rigid.root(int(j)) &&
-          can_touch(a, b, o.neighbour_distance_m)) {
+      if (p.rigid.root(int(i)) != p.rigid.root(int(j)) && can_touch(a, b, o.neighbour_distance_m)) {
         // Stacked: one on the other, footprints overlapping (diagonal neighbours across layers
         // touch at most along an edge).
         const bool stacked = interval_gap(a.z0, a.z1, b.z0, b.z1) >= -kTouch &&
@@ -289,9 +288,10 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     const double hx = d[0] / 2 - (swapped ? sy_world : sx_world);
     const double hy = d[1] / 2 - (swapped ? sx_world : sy_world);
     x << indent << "<body name=\"item_" << i << "\" pos=\"" << num(cp * dx + sp * dy) << " "
-      << num(-sp * dx + cp * dy) << " " << num(c.z - parent.z) << "\" quat=\"" << num(std::cos(yaw / 2))
-      << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n";
-    if (rigid.carrier[i] == kFreeItem) x << indent << "  <freejoint name=\"item_" << i << "_free\"/>\n";
+      << num(-sp * dx + cp * dy) << " " << num(c.z - parent.z) << "\" quat=\""
+      << num(std::cos(yaw / 2)) << " 0 0 " << num(std::sin(yaw / 2)) << "\">\n";
+    if (rigid.carrier[i] == kFreeItem)
+      x << indent << "  <freejoint name=\"item_" << i << "_free\"/>\n";
     x << indent << "  <inertial pos=\"0 0 0\" mass=\"" << num(m) << "\" diaginertia=\""
       << num(m / 12 * (d[1] * d[1] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[2] * d[2])) << " "
@@ -327,8 +327,8 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   if (welds > 0) {
     x << "  <equality>\n";
     for (std::size_t i = 0; i < n; ++i) {
-      const WeldParams w = weld_params(wrap_stiffness(config.wrap), config.items[i].weight_kg,
-                                       config.base_mass_kg);
+      const WeldParams w =
+          weld_params(wrap_stiffness(config.wrap), config.items[i].weight_kg, config.base_mass_kg);
       x << "    <weld name=\"wrap_" << i << "\" body1=\"item_" << i
         << "\" body2=\"pallet\" solref=\"" << nums(w.solref) << "\" solimp=\"" << nums(w.solimp)
         << "\"/>\n";

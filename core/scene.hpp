@@ -77,8 +77,8 @@ struct BufferSizes {
 
 /// The most one simulation of a scene may take. MuJoCo 2.2 holds an njmax x njmax matrix per
 /// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all); the
-/// envelope runs up to four at once. 256 MB is an njmax of about 5,600: some 1,400 resting contacts,
-/// about 300 stacked cartons.
+/// envelope runs up to four at once. 256 MB is an njmax of about 5,600: some 1,400 resting
+/// contacts, about 300 stacked cartons.
 inline constexpr double kMaxSimulationBytes = 256.0 * 1024 * 1024;
 
 /// The buffers build_mjcf sizes for a pallet (no friction or engine needed).

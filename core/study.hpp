@@ -65,8 +65,8 @@ inline constexpr std::array<Axis, 4> kStudyAxes{Axis::accel, Axis::decel, Axis::
 /// A candidate envelope against the reference's.
 struct EnvelopeComparison {
   std::array<double, 4> error_steps{};  ///< |candidate - reference| / step, per kStudyAxes
-  int limits_within = 0;  ///< of the four, within one step of the reference
-  int limits_above = 0;   ///< of the four, more than one step above it (an unsafe answer)
+  int limits_within = 0;                ///< of the four, within one step of the reference
+  int limits_above = 0;            ///< of the four, more than one step above it (an unsafe answer)
   double worst_above_steps = 0.0;  ///< how far above, at worst (0 when none is above)
   double worst_steps = 0.0;
   Axis worst_axis = Axis::accel;

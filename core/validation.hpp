@@ -25,7 +25,7 @@ struct ValidationLimits {
   /// to the height cap is about 300; the engine's own limit (scene.hpp: kMaxSimulationBytes) is
   /// usually lower and is named when a scene is built.
   std::size_t max_items = 400;
-  bool require_known_skus = false;   ///< every item's SKU must be in the catalog
+  bool require_known_skus = false;  ///< every item's SKU must be in the catalog
 };
 
 /// Every rule, in document order. Errors make the pallet unusable; warnings (low support,

@@ -9,8 +9,8 @@
 
 #include "app/cli/commands.hpp"
 #include "core/analyzer.hpp"
-#include "core/reference_search.hpp"
 #include "core/fidelity.hpp"
+#include "core/reference_search.hpp"
 #include "core/scenario.hpp"
 #include "core/scene.hpp"
 #include "core/text.hpp"
@@ -253,15 +253,15 @@ AnalyzerOptions analyze_options(const Args& args) {
 Json probes_json(const std::vector<Probe>& probes) {
   Json out = Json::array();
   for (const auto& p : probes) {
-    out.push_back({{"axis", to_string(p.axis)},
-                   {"value", p.value},
-                   {"outcome", to_string(p.outcome)},
-                   {"mode", to_string(p.mode)},
-                   {"failure_time_s",
-                    p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)},
-                   {"sim_time_s", p.sim_time_s},
-                   {"steps", p.steps},
-                   {"wall_ms", p.wall_ms}});
+    out.push_back(
+        {{"axis", to_string(p.axis)},
+         {"value", p.value},
+         {"outcome", to_string(p.outcome)},
+         {"mode", to_string(p.mode)},
+         {"failure_time_s", p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)},
+         {"sim_time_s", p.sim_time_s},
+         {"steps", p.steps},
+         {"wall_ms", p.wall_ms}});
   }
   return out;
 }
@@ -455,9 +455,9 @@ void print_bench_table(const Json& rows) {
     std::string line;
     for (const auto& c : columns) {
       const Json& v = row[c.key];
-      const std::string text = v.is_null()        ? std::string("-")
-                               : c.decimals < 0   ? v.get<std::string>()
-                                                  : fixed(v.get<double>(), c.decimals);
+      const std::string text = v.is_null()      ? std::string("-")
+                               : c.decimals < 0 ? v.get<std::string>()
+                                                : fixed(v.get<double>(), c.decimals);
       line += cell(text, c.width, c.decimals < 0) + " ";
     }
     print_line(line);
@@ -565,7 +565,8 @@ std::vector<Command> physics_commands() {
          {"speed-max", "V", "top of the speed search, m/s (default 2)"},
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
-          "list every probe of each search (axis, value, outcome, mode, failure_time_s, sim_time_s, "
+          "list every probe of each search (axis, value, outcome, mode, failure_time_s, "
+          "sim_time_s, "
           "steps, wall_ms); every "
           "file's search is then run, repeated pallets included"},
          {"fidelity", "LEVEL",

@@ -37,8 +37,9 @@ class FidelityFlagTest : public QObject {
          << "fastest";
     Run r = cli(args);
     QCOMPARE(r.exit_code, 2);
-    QVERIFY2(r.err.contains("--fidelity must be one of auto, closed_form, reduced, clustered or full"),
-             r.err.constData());
+    QVERIFY2(
+        r.err.contains("--fidelity must be one of auto, closed_form, reduced, clustered or full"),
+        r.err.constData());
     QVERIFY(r.err.contains("'fastest'"));
     QVERIFY(r.out.isEmpty());
   }

@@ -75,8 +75,8 @@ class MemoryCliTest : public QObject {
   // well under 400 MB (2.1 GB before the buffers followed the scene).
   void largeUnwrappedLoadStaysWithinTheCap() {
     QTemporaryDir dir;
-    const QString path =
-        pb::test::write_file(dir, "p32.json", QByteArray::fromStdString(layered_pallet(2, 4, 4, 8.0)));
+    const QString path = pb::test::write_file(
+        dir, "p32.json", QByteArray::fromStdString(layered_pallet(2, 4, 4, 8.0)));
     const Measured m = run_measured({"analyze", path.toStdString()});
     QCOMPARE(m.exit_code, 0);
     QVERIFY2(m.peak_rss_kb > 0 && m.peak_rss_kb < 400 * 1024,

@@ -359,7 +359,8 @@ class PhysicsCliTest : public QObject {
     QSet<QString> axes;
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
-      QCOMPARE(p.size(), 8);  // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, wall_ms
+      QCOMPARE(p.size(),
+               8);  // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, wall_ms
       axes.insert(str(p, "axis"));
       const bool failed = str(p, "outcome") == QStringLiteral("failed");
       QVERIFY(failed || str(p, "outcome") == QStringLiteral("safe"));
@@ -441,7 +442,8 @@ class PhysicsCliTest : public QObject {
                  QStringLiteral("--scenario"), QStringLiteral("stable-dairy-slab")});
     QVERIFY2(r.exit_code == 0, r.err.constData());
     const QJsonObject o = r.json().array()[0].toObject();
-    QVERIFY(o.value(QStringLiteral("ref_ms")).isNull() && o.value(QStringLiteral("ratio")).isNull());
+    QVERIFY(o.value(QStringLiteral("ref_ms")).isNull() &&
+            o.value(QStringLiteral("ratio")).isNull());
   }
 
   void benchTable() {

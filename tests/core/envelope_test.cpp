@@ -534,8 +534,8 @@ class EnvelopeTest : public QObject {
   // (a two-carton stack sliding on each other at mu g = 2.94 m/s^2: ramps of 2 / a s). A load off
   // the mirror plane is searched on every axis.
   void mirrorImageLoadTakesItsStopFromTheStartUp() {
-    auto s = settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}),
-                    {1.0, 0.3, 0.4});
+    auto s =
+        settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4});
     auto mirrored = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
     QVERIFY(mirrored.ok());
     QVERIFY(mirrored->decel.derived);

@@ -62,7 +62,8 @@ class FidelityTest : public QObject {
     QCOMPARE(to_string(Fidelity::reduced), std::string_view("reduced"));
     QCOMPARE(to_string(Fidelity::full), std::string_view("full"));
     QVERIFY(!enum_from_string<Fidelity>("automatic"));
-    QCOMPARE(enum_choices<Fidelity>(), std::string("auto, closed_form, reduced, clustered or full"));
+    QCOMPARE(enum_choices<Fidelity>(),
+             std::string("auto, closed_form, reduced, clustered or full"));
   }
 
   // Model no more than the scene needs: a banded load is one rigid body; an unwrapped tower's

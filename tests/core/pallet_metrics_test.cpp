@@ -182,14 +182,15 @@ class PalletMetricsTest : public QObject {
     QVERIFY(mirror_symmetric_along(test::pallet({carton(0, 0.1, 0.15)})));
     QVERIFY(mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15), carton(0, 0, 0.35)})));
-    QVERIFY(mirror_symmetric_along(test::pallet(
-        {carton(-0.3, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 90.0), carton(0.3, 0, 0.15, {0.3, 0.4, 0.2})})));
+    QVERIFY(mirror_symmetric_along(test::pallet({carton(-0.3, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 90.0),
+                                                 carton(0.3, 0, 0.15, {0.3, 0.4, 0.2})})));
     QVERIFY(!mirror_symmetric_along(test::pallet({carton(0.1, 0, 0.15)})));
     QVERIFY(!mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15, {0.4, 0.3, 0.2}, 11.0)})));
     QVERIFY(!mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15, {0.4, 0.3, 0.25})})));
-    QVERIFY(!mirror_symmetric_along(test::pallet({carton(0, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 30.0)})));
+    QVERIFY(
+        !mirror_symmetric_along(test::pallet({carton(0, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 30.0)})));
     // Two cartons on one side cannot share the one twin on the other.
     QVERIFY(!mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(-0.3, 0, 0.35), carton(0.3, 0, 0.15)})));

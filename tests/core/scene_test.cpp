@@ -646,8 +646,8 @@ class SceneTest : public QObject {
     for (int layer = 0; layer < 3; ++layer) {
       for (int i = 0; i < 12; ++i) {
         for (int j = 0; j < 8; ++j) {
-          many.push_back(carton(-0.55 + 0.1 * i, -0.35 + 0.1 * j, 0.15 + 0.1 * layer,
-                                {0.1, 0.1, 0.1}, 1.0));
+          many.push_back(
+              carton(-0.55 + 0.1 * i, -0.35 + 0.1 * j, 0.15 + 0.1 * layer, {0.1, 0.1, 0.1}, 1.0));
         }
       }
     }
