@@ -2,6 +2,7 @@
 #include "core/analyzer.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 
 #include "core/fingerprint.hpp"
@@ -14,6 +15,28 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// A load that cannot stand gets no conveyor limit: a reject whose reason is the build defect.
+SafetyResult cannot_stand_result(const StandFailure& defect, const LineDescription& line) {
+  SafetyResult r;
+  r.verdict = "reject";
+  r.speed_governed_by = "build_defect";
+  r.dominant_failure_mode = FailureMode::cannot_stand;
+  r.accel_mode = r.decel_mode = r.lateral_mode = r.speed_mode = FailureMode::cannot_stand;
+  std::string sentence = defect.sentence;
+  if (!sentence.empty()) sentence[0] = static_cast<char>(std::toupper(sentence[0]));
+  r.reason = "Reject, build defect: " + sentence + ".";
+  r.line_estop_decel_mps2 = line.estop_decel_mps2;
+  r.line_curve_radius_m = line.curve_radius_m;
+  r.sims_run = 1;  // the settle that found it
+  return r;
+}
+
+// Why a load that cannot stand is not simulated on the conveyor, at the item where it starts.
+Diagnostics cannot_stand_diagnostics(const StandFailure& defect) {
+  const std::string pointer = defect.item >= 0 ? "/items/" + std::to_string(defect.item) : "/items";
+  return {{pointer, defect.sentence, Severity::error}};
 }
 
 }  // namespace
@@ -77,7 +100,7 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   auto simulator = Simulator::create(*prepared->scene);
   if (!simulator) return Result<PreparedPallet*>::failure(std::move(simulator.diagnostics));
   prepared->simulator = std::make_unique<Simulator>(std::move(*simulator.value));
-  auto rest = prepared->simulator->settle(options_.settle);
+  auto rest = prepared->simulator->settle(options_.settle, options_.sim.thresholds);
   if (!rest) {
     if (grow_buffers(key, rest.diagnostics)) return prepare(config);
     return Result<PreparedPallet*>::failure(std::move(rest.diagnostics));
@@ -126,6 +149,17 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   auto prepared = prepare(config);
   if (!prepared) return Result<Envelope>::failure(std::move(prepared.diagnostics));
   PreparedPallet& p = **prepared.value;
+  if (p.rest.cannot_stand) {
+    Envelope env;
+    env.result = cannot_stand_result(*p.rest.cannot_stand, options_.line);
+    env.result.pallet_id = config.pallet_id;
+    env.result.config_hash = p.fingerprint;
+    env.result.fidelity = std::string(to_string(p.fidelity.level));
+    env.result.sim_runtime_ms = ms_since(start);
+    env.rest = p.rest;
+    results_.insert_or_assign(p.fingerprint, env.result);
+    return Result<Envelope>{std::move(env), {}};
+  }
   auto env =
       search_envelope(*p.simulator, p.rest, p.bounds, options_.line, options_.search, options_.sim);
   if (!env) {
@@ -152,6 +186,9 @@ Result<FailureMap> Analyzer::failure_map(const PalletConfig& config, const MapOp
   auto prepared = prepare(config);
   if (!prepared) return Result<FailureMap>::failure(std::move(prepared.diagnostics));
   const PreparedPallet& p = **prepared.value;
+  if (p.rest.cannot_stand) {
+    return Result<FailureMap>::failure(cannot_stand_diagnostics(*p.rest.cannot_stand));
+  }
   return run_failure_map(*p.scene, p.rest, options, options_.line, options_.search, options_.sim);
 }
 
@@ -178,6 +215,9 @@ Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile&
   auto prepared = prepare(config);
   if (!prepared) return Result<Solve>::failure(std::move(prepared.diagnostics));
   PreparedPallet& p = **prepared.value;
+  if (p.rest.cannot_stand) {
+    return Result<Solve>::failure(cannot_stand_diagnostics(*p.rest.cannot_stand));
+  }
   SimOptions o = options_.sim;
   o.record_trace = true;
   Solve solve;

@@ -72,6 +72,8 @@ std::string describe(const FailureEvent& event) {
              format(" moved %.1f cm relative to each other", event.value * 100.0);
     case FailureMode::pallet_slip:
       return head + format("the pallet slipped %.0f cm relative to the belt", event.value * 100.0);
+    case FailureMode::cannot_stand:
+      return head + "the load moved with the belt standing still";
   }
   return head + format("measured %g", event.value);
 }

@@ -12,7 +12,9 @@ namespace pb {
 enum class Fragility { rigid, semi_rigid, deformable };
 enum class WrapType { none, shrink, stretch, banded };
 enum class Environment { frozen, refrigerated, thawed, transitioning };
-enum class FailureMode { no_failure, tip_over, top_item_slide, pallet_slip, load_shift };
+/// cannot_stand is ours: the load moves with the belt standing still (a build defect: no conveyor
+/// limit is given for it).
+enum class FailureMode { no_failure, tip_over, top_item_slide, pallet_slip, load_shift, cannot_stand };
 enum class ProfileShape { accel_hold, constant, ramp_decel, estop, curve, eumos };
 /// Pallet base types. The base's surface material (wood or plastic) follows from the type.
 enum class PalletType { eur, gma, chep };
@@ -55,12 +57,13 @@ struct EnumTable<Environment> {
 };
 template <>
 struct EnumTable<FailureMode> {
-  static constexpr std::array<EnumName<FailureMode>, 5> names{
+  static constexpr std::array<EnumName<FailureMode>, 6> names{
       {{FailureMode::no_failure, "no_failure"},
        {FailureMode::tip_over, "tip_over"},
        {FailureMode::top_item_slide, "top_item_slide"},
        {FailureMode::pallet_slip, "pallet_slip"},
-       {FailureMode::load_shift, "load_shift"}}};
+       {FailureMode::load_shift, "load_shift"},
+       {FailureMode::cannot_stand, "cannot_stand"}}};
 };
 template <>
 struct EnumTable<ProfileShape> {

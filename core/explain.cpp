@@ -67,6 +67,11 @@ std::string demand_phrase(const ConveyorProfile& p, double demand) {
 }  // namespace
 
 Grade grade(const SafetyResult& r) {
+  if (r.dominant_failure_mode == FailureMode::cannot_stand) {
+    return {'R', "Build defect: re-stack",
+            "It cannot stand even on a still belt; re-stack it before anything else. No conveyor "
+            "limit applies."};
+  }
   if (r.verdict == "reject") {
     return {'R', "Reject and re-wrap",
             "No motion is safe: re-stack or re-wrap before it enters the conveyor."};
@@ -187,6 +192,7 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
              fixed(100.0 * event.value, 1) + " cm apart under " + demand_phrase(profile, demand) +
              "; re-stack interlocked (brick or pinwheel) or wrap it.";
     }
+    case FailureMode::cannot_stand:
     case FailureMode::no_failure:
       break;
   }

@@ -21,7 +21,8 @@ inline constexpr double kTableAccelMps2 = 1.0;
 
 struct Grade {
   /// 'A' faster than the table (>= 1.5x its speed and start-up), 'B' runs at the table's speed
-  /// and start-up, 'C' slower than the table on some axis, 'R' reject: no motion is safe.
+  /// and start-up, 'C' slower than the table on some axis, 'R' reject: no motion is safe (or, for
+  /// a load that cannot stand, a build defect: "Build defect: re-stack").
   char letter = 'R';
   std::string label;  ///< "Faster than the table", "Table speed", "Slow zone", "Reject and re-wrap"
   std::string advice;  ///< what to do with the pallet, one short sentence

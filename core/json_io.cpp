@@ -410,8 +410,19 @@ Json profile_to_json(const ConveyorProfile& profile) {
   return write_document(profile, ProfileFields{});
 }
 
+namespace {
+// A load that cannot stand has no conveyor limit: these are null in its JSON, never a 0 that
+// reads like a speed.
+constexpr const char* kLimitKeys[] = {"max_speed_mps", "max_accel_mps2", "max_decel_mps2",
+                                      "max_lateral_g", "margin_pct"};
+}  // namespace
+
 Json safety_result_to_json(const SafetyResult& result) {
-  return write_document(result, SafetyResultFields{});
+  Json json = write_document(result, SafetyResultFields{});
+  if (result.dominant_failure_mode == FailureMode::cannot_stand) {
+    for (const char* key : kLimitKeys) json[key] = nullptr;
+  }
+  return json;
 }
 
 Result<PalletConfig> pallet_from_json(const Json& json, const std::string& pointer_prefix) {
@@ -450,6 +461,15 @@ Result<ConveyorProfile> profile_from_json(const Json& json, const std::string& p
 }
 
 Result<SafetyResult> safety_result_from_json(const Json& json, const std::string& pointer_prefix) {
+  const auto mode = json.is_object() ? json.find("dominant_failure_mode") : json.end();
+  if (mode != json.end() && *mode == "cannot_stand") {
+    Json limits_zero = json;
+    for (const char* key : kLimitKeys) {
+      if (auto it = limits_zero.find(key); it != limits_zero.end() && it->is_null()) *it = 0.0;
+    }
+    return read_document<SafetyResult>(limits_zero, pointer_prefix, "a safety result",
+                                       SafetyResultFields{});
+  }
   return read_document<SafetyResult>(json, pointer_prefix, "a safety result", SafetyResultFields{});
 }
 

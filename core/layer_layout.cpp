@@ -10,6 +10,7 @@
 
 #include "core/pallet_metrics.hpp"
 #include "core/pallet_type.hpp"
+#include "core/static_stability.hpp"
 
 namespace pb {
 
@@ -111,11 +112,13 @@ Layer fill_grid(const std::vector<const SkuTemplate*>& skus, const Grid& grid, d
   return layer;
 }
 
-// Brick: half a cell of offset between layers (less where the overhang budget runs out), split
-// symmetrically: even layers -s/2, odd layers +s/2.
+// Brick: a quarter of a cell of offset between layers (less where the overhang budget runs out),
+// split symmetrically: even layers -s/2, odd layers +s/2. Every carton straddles the joint below it
+// and the end cartons keep three quarters of their length on the layer below; half a cell
+// balanced each end carton on an edge (its centre of mass over the last carton's end face).
 double brick_shift(const Grid& grid, const Deck& deck, int layer_index) {
   const double room = deck.length - grid.length() + 2.0 * deck.budget;
-  const double s = std::max(0.0, std::min(grid.cell[0] / 2.0, room));
+  const double s = std::max(0.0, std::min(grid.cell[0] / 4.0, room));
   return layer_index % 2 == 0 ? -s / 2.0 : s / 2.0;
 }
 
@@ -202,11 +205,12 @@ Vec2 shift_range(const Layer& layer, const Deck& deck) {
 }
 
 // The lean offset of a layer whose bottom is `height` above the deck (plus the top-layer push),
-// rounded to kShiftResolution and clamped to the overhang budget.
-double layer_shift(const ScannerInputs& inputs, bool top_layer, double height, const Layer& layer,
-                   const Deck& deck) {
-  double shift = std::tan(inputs.lean_angle_deg * std::numbers::pi / 180.0) * height;
-  if (top_layer) shift += inputs.top_overhang_m;
+// both at `scale` of their scanned size, rounded to kShiftResolution and clamped to the overhang
+// budget.
+double layer_shift(const ScannerInputs& inputs, double scale, bool top_layer, double height,
+                   const Layer& layer, const Deck& deck) {
+  double shift = scale * std::tan(inputs.lean_angle_deg * std::numbers::pi / 180.0) * height;
+  if (top_layer) shift += scale * inputs.top_overhang_m;
   shift = std::round(shift / kShiftResolution) * kShiftResolution;
   const Vec2 range = shift_range(layer, deck);
   return std::clamp(shift, range[0], range[1]);
@@ -311,35 +315,98 @@ Result<PalletConfig> build_from_scanner(const ScannerInputs& inputs, const Catal
 
   std::vector<std::vector<const SkuTemplate*>> skus;
   for (int l = 0; l < inputs.layers; ++l) skus.push_back(layer_skus(inputs, l, catalog));
-  std::vector<Layer> layers;
+  // Each layer as its pattern lays it and, for the alternate layers of a brick or a pinwheel, as
+  // the layers below them are laid (not shifted, not turned): what the pattern falls back to when,
+  // shifted or turned, some cartons could not stand.
+  std::vector<Layer> layers, plain;
   for (std::size_t l = 0; l < skus.size(); ++l) {
     auto layer = lay_out_layer(inputs.pattern, static_cast<int>(l), skus[l], deck);
     if (!layer) return Result<PalletConfig>::failure({does_not_fit(inputs, l, skus, deck, limit)});
     layers.push_back(std::move(*layer));
+    auto unturned = lay_out_layer(inputs.pattern, 0, skus[l], deck);
+    plain.push_back(unturned ? std::move(*unturned) : layers.back());
   }
+  const bool alternates = inputs.pattern == LayerPattern::brick ||
+                          inputs.pattern == LayerPattern::pinwheel;
 
-  PalletConfig config;
-  config.pallet_id = inputs.pallet_id;
-  config.base_pallet_type = inputs.base_pallet_type;
-  config.base_dims_m = spec.dims_m;
-  config.base_mass_kg = spec.mass_kg;
-  config.wrap = inputs.wrap;
-  config.env = inputs.env;
-  config.body_temp_c = inputs.body_temp_c;
-  config.seconds_since_temp_change = inputs.seconds_since_temp_change;
-  config.belt_surface = inputs.belt_surface;
-  for (std::size_t l = 0; l < layers.size(); ++l) {
-    const double floor = stack_height_m(config);
-    const double shift =
-        layer_shift(inputs, l + 1 == layers.size(), floor - deck.top, layers[l], deck);
-    for (const Placement& p : layers[l]) {
-      Item item = make_item(*p.sku, {p.x + shift, p.y, 0.0}, p.yaw_deg);
-      item.position[2] = resting_z(item, config.items, deck.top);
-      config.items.push_back(std::move(item));
+  // The anomalies at `scale` of their scanned size (each layer shifted by its lean offset, the top
+  // layer pushed, clamped to the overhang budget), the alternate layers laid plain or not.
+  auto stack = [&](double scale, bool laid_plain) {
+    PalletConfig config;
+    config.pallet_id = inputs.pallet_id;
+    config.base_pallet_type = inputs.base_pallet_type;
+    config.base_dims_m = spec.dims_m;
+    config.base_mass_kg = spec.mass_kg;
+    config.wrap = inputs.wrap;
+    config.env = inputs.env;
+    config.body_temp_c = inputs.body_temp_c;
+    config.seconds_since_temp_change = inputs.seconds_since_temp_change;
+    config.belt_surface = inputs.belt_surface;
+    for (std::size_t l = 0; l < layers.size(); ++l) {
+      const Layer& layer = laid_plain ? plain[l] : layers[l];
+      const double floor = stack_height_m(config);
+      const double shift =
+          layer_shift(inputs, scale, l + 1 == layers.size(), floor - deck.top, layer, deck);
+      for (const Placement& p : layer) {
+        Item item = make_item(*p.sku, {p.x + shift, p.y, 0.0}, p.yaw_deg);
+        item.position[2] = resting_z(item, config.items, deck.top);
+        config.items.push_back(std::move(item));
+      }
+    }
+    return config;
+  };
+
+  // What cannot stand is not built (as the overhang is clamped): the pattern as scanned, else
+  // with its anomalies reduced (to the largest share, to 1/1024, under which every item stands),
+  // else with the alternate layers laid plain (and the anomalies reduced as needed). A layout that
+  // cannot stand even so (cartons of different heights in a layer) is reported by validate().
+  const double margin = limits.stability_margin_m;
+  const double tolerance = limits.support_tolerance_m;
+  auto stands_as = [&](double scale, bool laid_plain) {
+    return stands(stack(scale, laid_plain), margin, tolerance);
+  };
+  const bool anomalous = inputs.lean_angle_deg != 0.0 || inputs.top_overhang_m != 0.0;
+  double scale = 1.0;
+  bool laid_plain = false;
+  if (limits.check_standing && !stands_as(1.0, false)) {
+    for (const bool p : {false, true}) {
+      if (p && !alternates) break;
+      if (stands_as(1.0, p)) {
+        laid_plain = p;
+        break;
+      }
+      if (!anomalous || !stands_as(0.0, p)) continue;
+      double lo = 0.0, hi = 1.0;
+      for (int k = 0; k < 10; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (stands_as(mid, p) ? lo : hi) = mid;
+      }
+      scale = lo;
+      laid_plain = p;
+      break;
     }
   }
+  const PalletConfig config = stack(scale, laid_plain);
+  if (scale < 1.0) {
+    diags.push_back({"/lean_angle_deg",
+                     "the lean (" + fixed(inputs.lean_angle_deg, 1, "deg") +
+                         ") and top-layer overhang (" +
+                         fixed(100.0 * inputs.top_overhang_m, 1, "cm") + ") were reduced to " +
+                         fixed(100.0 * scale, 0, "%") + " so that every item stands",
+                     Severity::warning});
+  }
+  if (laid_plain) {
+    diags.push_back({"/pattern",
+                     std::string(inputs.pattern == LayerPattern::brick
+                                     ? "the alternate layers are not shifted"
+                                     : "the alternate layers are not turned") +
+                         ": so laid, some cartons of the " + std::string(to_string(inputs.pattern)) +
+                         " pattern would not stand on the layer below",
+                     Severity::warning});
+  }
 
-  diags = validate(config, limits, &catalog);
+  Diagnostics found = validate(config, limits, &catalog);
+  diags.insert(diags.end(), found.begin(), found.end());
   if (has_errors(diags)) return Result<PalletConfig>::failure(std::move(diags));
   return Result<PalletConfig>{std::move(config), std::move(diags)};
 }

@@ -36,8 +36,8 @@ struct ScannerInputs {
 
 /// Lays out the scanned pallet on the base type's nominal deck.
 ///  - column:    Ti items in a grid, the same positions on every layer of the same SKUs.
-///  - brick:     as column, with alternate layers shifted by half a cell along X (less where the
-///               overhang limit does not allow the full shift).
+///  - brick:     as column, with alternate layers shifted by a quarter of a cell along X (less
+///               where the overhang limit does not allow it).
 ///  - pinwheel:  alternate layers rotated 90 degrees (item yaw 90, the grid recomputed for the
 ///               rotated footprint).
 ///  - irregular: each layer shelf-packed from its own items' sizes, in barcode order.

@@ -60,17 +60,6 @@ double signed_area(const std::vector<Vec2>& poly) {
   return twice / 2.0;
 }
 
-std::vector<Vec2> footprint_polygon(const Item& item) {
-  const auto corners = item_footprint(item);
-  return {corners.begin(), corners.end()};
-}
-
-std::vector<Vec2> deck_polygon(const Vec3& base_dims_m) {
-  const double hl = base_dims_m[0] / 2.0;
-  const double hw = base_dims_m[1] / 2.0;
-  return {{-hl, -hw}, {hl, -hw}, {hl, hw}, {-hl, hw}};
-}
-
 }  // namespace
 
 double total_mass_kg(const PalletConfig& config) {
@@ -129,12 +118,29 @@ std::array<Vec2, 4> item_footprint(const Item& item) {
   return corners;
 }
 
-double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+std::vector<Vec2> convex_intersection(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   std::vector<Vec2> clipped = a;
   for (std::size_t i = 0; i < b.size() && !clipped.empty(); ++i) {
     clipped = clip_by_edge(clipped, b[i], b[(i + 1) % b.size()]);
   }
-  return clipped.size() < 3 ? 0.0 : std::abs(signed_area(clipped));
+  if (clipped.size() < 3) clipped.clear();
+  return clipped;
+}
+
+double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  const std::vector<Vec2> clipped = convex_intersection(a, b);
+  return clipped.empty() ? 0.0 : std::abs(signed_area(clipped));
+}
+
+std::vector<Vec2> deck_polygon(const Vec3& base_dims_m) {
+  const double hl = base_dims_m[0] / 2.0;
+  const double hw = base_dims_m[1] / 2.0;
+  return {{-hl, -hw}, {hl, -hw}, {hl, hw}, {-hl, hw}};
+}
+
+std::vector<Vec2> footprint_polygon(const Item& item) {
+  const auto corners = item_footprint(item);
+  return {corners.begin(), corners.end()};
 }
 
 double footprint_overlap_area(const Item& a, const Item& b) {

@@ -33,6 +33,15 @@ double item_overhang_m(const Item& item, const Vec3& base_dims_m);
 /// Corners of the item's yawed footprint in the pallet XY plane, counter-clockwise.
 std::array<Vec2, 4> item_footprint(const Item& item);
 
+/// The item's footprint as a polygon (item_footprint's corners).
+std::vector<Vec2> footprint_polygon(const Item& item);
+/// The deck's rectangle, centred on the origin, counter-clockwise.
+std::vector<Vec2> deck_polygon(const Vec3& base_dims_m);
+
+/// The intersection of two convex polygons given counter-clockwise (Sutherland-Hodgman), counter-
+/// clockwise; empty when they share less than a polygon.
+std::vector<Vec2> convex_intersection(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
+
 /// Area of the intersection of two convex polygons given counter-clockwise (m^2).
 double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b);
 

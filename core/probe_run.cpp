@@ -43,13 +43,11 @@ double max_relative(const SceneLayout& l, const mjtNum* v, double bx, double by,
   return fastest;
 }
 
-// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
-// `spin`) the largest angular acceleration, of the step just taken.
+}  // namespace
+
 double max_relative_accel(const SceneLayout& l, const mjData& d, double* spin) {
   return max_relative(l, d.qacc, d.qacc[l.belt_x_dof], d.qacc[l.belt_y_dof], spin);
 }
-
-}  // namespace
 
 std::optional<std::string> BeltWatch::check(double error) {
   growth_ = (error > 0.05 && error > last_) ? growth_ + 1 : 0;
@@ -116,6 +114,12 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   if (auto problem = numerical_limits_problem(scene)) {
     r_.outcome = Outcome::unstable;
     r_.reason = *problem;
+    done_ = true;
+    return;
+  }
+  if (rest.cannot_stand) {  // a collapsed load is no rest state: nothing to probe
+    r_.outcome = Outcome::unstable;
+    r_.reason = "no conveyor motion is simulated: " + rest.cannot_stand->sentence;
     done_ = true;
     return;
   }

@@ -38,6 +38,9 @@ void read_item_poses(const SceneLayout& layout, const mjData& data, std::vector<
 /// `spin`, the fastest angular speed).
 double max_relative_speed(const SceneLayout& layout, const mjData& data, double belt_vx,
                           double belt_vy, double* spin);
+/// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
+/// `spin`) the largest angular acceleration, of the step just taken.
+double max_relative_accel(const SceneLayout& layout, const mjData& data, double* spin);
 /// Puts `rest` into `data` at t = 0 with the load riding along at `initial_speed` (ctrl, applied
 /// forces and warning counters cleared).
 void load_rest_state(const mjModel& model, const SceneLayout& layout, const RestState& rest,

@@ -44,6 +44,9 @@ constexpr Homogeneity kHomogeneities[] = {Homogeneity::single_sku, Homogeneity::
                                           Homogeneity::mixed};
 constexpr double kHomogeneityWeights[] = {0.70, 0.20, 0.10};
 
+constexpr WrapType kWraps[] = {WrapType::none, WrapType::shrink, WrapType::stretch,
+                               WrapType::banded};
+
 constexpr PalletType kBases[] = {PalletType::eur, PalletType::gma, PalletType::chep};
 constexpr double kBaseWeights[] = {0.55, 0.35, 0.10};
 
@@ -129,7 +132,8 @@ std::string homogeneity_of(const ScannerInputs& inputs) {
 }
 
 std::string notes_for(const RandomPalletOptions& options, const ScannerInputs& drawn,
-                      const ScannerInputs& built) {
+                      const ScannerInputs& built, bool trimmed_to_stand,
+                      const Diagnostics& layout_warnings) {
   std::string notes = "random seed " + std::to_string(options.seed) + ": " +
                       std::string(to_string(built.pattern)) + " " +
                       std::to_string(built.items_per_layer) + "x" + std::to_string(built.layers) +
@@ -142,9 +146,12 @@ std::string notes_for(const RandomPalletOptions& options, const ScannerInputs& d
   if (built.items_per_layer < drawn.items_per_layer) {
     notes += "; Ti reduced from " + std::to_string(drawn.items_per_layer) + " to fit the deck";
   }
+  for (const Diagnostic& d : layout_warnings) {
+    if (d.pointer == "/lean_angle_deg" || d.pointer == "/pattern") notes += "; " + d.message;
+  }
   if (built.layers < drawn.layers) {
-    notes +=
-        "; trimmed from " + std::to_string(drawn.layers) + " layers for the mass and height caps";
+    notes += "; trimmed from " + std::to_string(drawn.layers) + " layers for the mass and height " +
+             "caps" + (trimmed_to_stand ? " and so that every item stands" : "");
   }
   return notes;
 }
@@ -210,12 +217,12 @@ ScannerInputs random_scanner_inputs(const RandomPalletOptions& options, const Ca
   }
   inputs.skus = pick_skus(rng, sku_pool(env.env, catalog), homogeneity, inputs.layers,
                           inputs.items_per_layer);
-  inputs.wrap = WrapType::stretch;
   inputs.env = env.env;
   inputs.body_temp_c = rng.uniform(env.temp_lo_c, env.temp_hi_c);
   inputs.seconds_since_temp_change = env.env == Environment::transitioning
                                          ? rng.uniform(kTransitionLoS, kTransitionHiS)
                                          : rng.uniform(kSettledLoS, kSettledHiS);
+  inputs.wrap = options.wrap ? *options.wrap : kWraps[std::size_t(rng.uniform_int(0, 3))];
   return inputs;
 }
 
@@ -232,9 +239,11 @@ Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Cat
   const double mass_cap = std::min(limits.max_gross_mass_kg, spec.rated_load_kg + spec.mass_kg);
   ValidationLimits uncapped = limits;
   uncapped.max_stack_height_m = kUncappedHeightM;
+  uncapped.check_standing = false;  // the layout as drawn; whether it stands is asked below
 
   int layers = drawn.layers;
   int items_per_layer = drawn.items_per_layer;
+  bool trimmed_to_stand = false;
   for (;;) {
     ScannerInputs attempt = cut(drawn, layers, items_per_layer);
     if (layers > 1 && gross_mass_kg(attempt, catalog) > mass_cap) {
@@ -254,7 +263,21 @@ Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Cat
       continue;
     }
     auto result = build_from_scanner(attempt, catalog, limits);
-    if (result) result->notes = notes_for(options, drawn, attempt);
+    // A layout that cannot stand even without its anomalies or its pattern's turns (cartons of
+    // different heights in a layer), and would build but for that: its top layers go, as for the
+    // caps (a single layer always stands).
+    if (!result && layers > 1 && limits.check_standing) {
+      ValidationLimits no_standing = limits;
+      no_standing.check_standing = false;
+      if (build_from_scanner(attempt, catalog, no_standing)) {
+        --layers;
+        trimmed_to_stand = true;
+        continue;
+      }
+    }
+    if (result) {
+      result->notes = notes_for(options, drawn, attempt, trimmed_to_stand, result.diagnostics);
+    }
     return result;
   }
 }

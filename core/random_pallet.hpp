@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "core/catalog.hpp"
 #include "core/diagnostic.hpp"
@@ -20,6 +21,10 @@ struct RandomPalletOptions {
   int max_layers = 7;
   int min_items_per_layer = 4;  ///< Ti range, >= 1
   int max_items_per_layer = 10;
+  /// The wrap of every pallet; nullopt ("mixed"): drawn per pallet, each of none, shrink, stretch
+  /// and banded with probability 1/4 (drawn after every other field, so the rest of a seed's
+  /// pallet is the same whatever the wrap).
+  std::optional<WrapType> wrap = WrapType::stretch;
 };
 
 /// Range checks of the options; pointers "/seed", "/anomaly_rate", "/min_layers", ...
@@ -32,13 +37,15 @@ Diagnostics validate_random_options(const RandomPalletOptions& options);
 /// / mixed .10; base EUR .55 / GMA .35 / CHEP .10; Ti from the options' range with the pattern's
 /// minimum (brick and pinwheel 4, irregular 3, column 1) and column at most 2; Hi from the range;
 /// an anomaly with probability anomaly_rate: lean 2..8 deg and top-layer overhang 2.5..10 cm;
-/// SKUs from the environment's default products (transitioning: the frozen ones); wrap stretch.
+/// SKUs from the environment's default products (transitioning: the frozen ones); the options' wrap
+/// (stretch by default, as the reference).
 ScannerInputs random_scanner_inputs(const RandomPalletOptions& options, const Catalog& catalog);
 
 /// random_scanner_inputs() laid out by build_from_scanner(), with layers trimmed from the top
-/// until the pallet is within the gross-mass and height caps of `limits` (and Ti reduced to what
-/// fits a layer of the deck). The pallet id is "R-<seed>"; `notes` records the pattern, Ti x Hi
-/// and any anomaly. Always valid; never fails for valid options.
+/// until the pallet is within the gross-mass and height caps of `limits` and every item stands
+/// (and Ti reduced to what fits a layer of the deck; anomalies reduced as build_from_scanner
+/// does). The pallet id is "R-<seed>"; `notes` records the pattern, Ti x Hi, any anomaly and what
+/// was reduced. Always valid, wrapped or not; never fails for valid options.
 Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Catalog& catalog,
                                    const ValidationLimits& limits = {});
 

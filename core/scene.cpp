@@ -401,7 +401,9 @@ std::optional<std::string> numerical_limits_problem(const Scene& scene) {
 
 Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options,
                           const FrictionModel& friction_model) {
-  Diagnostics diags = validate(config);
+  ValidationLimits limits;
+  limits.check_standing = options.require_standing;
+  Diagnostics diags = validate(config, limits);
   if (has_errors(diags)) return Result<Scene>::failure(std::move(diags));
   auto friction = friction_model.for_pallet(config);
   if (!friction) return Result<Scene>::failure(std::move(friction.diagnostics));

@@ -48,6 +48,9 @@ struct SceneOptions {
   /// heights) get a contact pair; farther ones cannot touch before a detector fires.
   double neighbour_distance_m = 0.05;
   bool wrap_welds = true;  ///< false: ignore wrap (for studies)
+  /// false: simulate a load validate()'s standing rule refuses (to measure the rule against the
+  /// simulation: `study standing`). Every other rule still applies.
+  bool require_standing = true;
   /// The reduced model (Fidelity::reduced): items a wrap holds are merged into the pallet body
   /// (each stays a body without a joint, fixed where it rests, so MuJoCo composes the exact mass,
   /// centre of mass and inertia, and every item pose is still computed); the belt/pallet contact

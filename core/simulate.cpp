@@ -32,7 +32,97 @@ double Simulator::data_bytes() const {
   return double(data_->nbuffer) + double(data_->nstack) * sizeof(mjtNum);
 }
 
-Result<RestState> Simulator::settle(const SettleOptions& o) {
+namespace {
+
+// What a detector saw move on a still belt, without the detector's name or time.
+std::string what_moved(const FailureEvent& e) {
+  auto item = [&](std::size_t k) {
+    return k < e.items.size() ? "item " + std::to_string(e.items[k]) : std::string("an item");
+  };
+  switch (e.mode) {
+    case FailureMode::tip_over:
+      return "the pallet tilted " + fixed(e.value, 1) + " deg";
+    case FailureMode::top_item_slide:
+      return item(0) + " moved " + fixed(100.0 * e.value, 1) + " cm on the pallet";
+    case FailureMode::load_shift:
+      return item(0) + " and " + item(1) + " moved " + fixed(100.0 * e.value, 1) +
+             " cm relative to each other";
+    case FailureMode::pallet_slip:
+      return "the pallet slid " + fixed(100.0 * e.value, 1) + " cm";
+    case FailureMode::no_failure:
+    case FailureMode::cannot_stand:
+      break;
+  }
+  return "the load moved";
+}
+
+// Why a load that moved (or never came to rest) on a still belt cannot stand, for a supervisor:
+// the lowest item that moved is where the collapse starts; what is above it follows.
+StandFailure stand_failure(const Scene& scene, const mjData& d, const DetectorThresholds& t,
+                           const Pose& pallet0, const std::vector<Pose>& items0,
+                           const std::vector<Pose>& items, std::optional<FailureEvent> event) {
+  const auto& config = scene.config;
+  const Pose pallet = body_pose(d, scene.layout.pallet_body);
+  StandFailure out;
+  double moved_most = 0.0;
+  for (std::size_t i = 0; i < items.size() && i < config.items.size(); ++i) {
+    const Vec3 a = to_frame(pallet, items[i].pos);
+    const Vec3 b = to_frame(pallet0, items0[i].pos);
+    const double moved = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    if (moved <= 0.5 * t.load_shift_m) continue;
+    ++out.moved;
+    const bool lower = out.item < 0 || config.items[i].position[2] <
+                                           config.items[std::size_t(out.item)].position[2] - 1e-6;
+    const bool level = out.item >= 0 && std::abs(config.items[i].position[2] -
+                                                 config.items[std::size_t(out.item)].position[2]) <=
+                                            1e-6;
+    if (lower || (level && moved > moved_most)) {
+      out.item = static_cast<int>(i);
+      moved_most = moved;
+    }
+  }
+  const auto& l = scene.layout;
+  if (out.item < 0 && l.item_dofs.size() == config.items.size()) {
+    // Nothing moved far: the fastest item (or the event's).
+    double fastest = -1.0;
+    for (std::size_t i = 0; i < l.item_dofs.size(); ++i) {
+      const mjtNum* v = d.qvel + l.item_dofs[i];
+      const double speed = std::hypot(v[0], v[1], v[2]);
+      if (speed > fastest) {
+        fastest = speed;
+        out.item = static_cast<int>(i);
+      }
+    }
+    if (event && !event->items.empty()) out.item = event->items.front();
+  }
+  std::string name = "the load";
+  if (out.item >= 0 && std::size_t(out.item) < config.items.size()) {
+    const Item& it = config.items[std::size_t(out.item)];
+    name = "item " + std::to_string(out.item) + " (" + it.sku + ")";
+  }
+  const double t_s = d.time;  // from the start of the settle
+  if (event) {
+    out.event = *event;
+    const int others = std::max(0, out.moved - 1);
+    out.sentence = name + " cannot stand: with the belt standing still, " + what_moved(*event) +
+                   " within " + fixed(t_s, 2) + " s of being stacked" +
+                   (others > 0 ? " (" + std::to_string(others) + " other item" +
+                                     (others == 1 ? "" : "s") + " moved with it)"
+                               : "") +
+                   "; re-stack it squarely over what carries it. This is a build defect, not a "
+                   "conveyor limit";
+  } else {
+    out.sentence = "the load does not come to rest on a still belt: " + name +
+                   " is still moving after " + fixed(t_s, 1) +
+                   " s; re-stack it squarely over what carries it. This is a build defect, not a "
+                   "conveyor limit";
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresholds& thresholds) {
   const mjModel* m = scene_->model.get();
   mjData* d = data_.get();
   mj_resetData(m, d);
@@ -40,12 +130,33 @@ Result<RestState> Simulator::settle(const SettleOptions& o) {
   const int check_every =
       std::max(1, static_cast<int>(std::lround(o.check_every_s / m->opt.timestep)));
   const int max_steps = static_cast<int>(std::ceil(o.max_time_s / m->opt.timestep));
+  const int hold_steps = static_cast<int>(std::lround(o.hold_s / m->opt.timestep));
   const SceneLayout& l = scene_->layout;
+  // The as-built poses: what a detector crossing on a still belt is measured against.
+  mj_kinematics(m, d);
+  const Pose pallet0 = body_pose(*d, l.pallet_body);
+  std::vector<Pose> items0, items;
+  read_item_poses(l, *d, items0);
+  const FailureDetector detector(thresholds, pallet0, items0);
   double speed = 0.0, spin = 0.0;
-  bool at_rest = false;
+  int quiet_since = -1;  // the step from which the load has been at rest at every check
+  bool settled = false;
+  // The state where the load first came to rest: the rest state, once the hold confirms it (the
+  // hold checks; it does not move the start of the probes).
+  RestState first;
+  auto snapshot = [&] {
+    first.qpos.assign(d->qpos, d->qpos + m->nq);
+    first.qvel.assign(d->qvel, d->qvel + m->nv);
+    first.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m->nv);
+    first.pallet = body_pose(*d, l.pallet_body);
+    read_item_poses(l, *d, first.items);
+    first.settle_time_s = d->time;
+    first.residual_speed_mps = speed;
+  };
+  std::optional<FailureEvent> moved;
   int step = 0;
   BeltWatch belt;
-  while (step < max_steps && !at_rest && !error) {
+  while (step < max_steps && !settled && !moved && !error) {
     error = guarded([&] {
       for (int k = 0; k < check_every && !error; ++k) {
         mj_step(m, d);
@@ -54,9 +165,24 @@ Result<RestState> Simulator::settle(const SettleOptions& o) {
     });
     step += check_every;
     if (!error) error = instability_reason(m, d);
-    if (error) *error += " (by t = " + fixed(step * m->opt.timestep, 3) + " s)";
+    if (error) {
+      *error += " (by t = " + fixed(step * m->opt.timestep, 3) + " s)";
+      break;
+    }
+    read_item_poses(l, *d, items);
+    // The belt is held still: its travel is the pallet's slip.
+    const Trace::BeltState still{d->qpos[l.belt_x_qpos], d->qpos[l.belt_y_qpos], 0.0, 0.0};
+    moved = detector.update(d->time, still, body_pose(*d, l.pallet_body), items);
     speed = max_relative_speed(l, *d, 0.0, 0.0, &spin);
-    at_rest = d->time >= o.min_time_s && speed < o.rest_speed_mps && spin < o.rest_spin_radps;
+    const bool at_rest =
+        d->time >= o.min_time_s && speed < o.rest_speed_mps && spin < o.rest_spin_radps;
+    if (!at_rest) {
+      quiet_since = -1;
+    } else if (quiet_since < 0) {
+      quiet_since = step;
+      snapshot();
+    }
+    settled = quiet_since >= 0 && step - quiet_since >= hold_steps;
   }
   if (error) {
     mj_resetData(m, d);
@@ -64,14 +190,10 @@ Result<RestState> Simulator::settle(const SettleOptions& o) {
         "", "the load could not be settled on a still belt: " + *error +
                 "; the layout or the numerical settings are at fault, not the conveyor");
   }
-  if (!at_rest) {
-    return Result<RestState>::failure(
-        "/items", "the load is still moving after " + std::to_string(o.max_time_s) +
-                      " s on a still belt (fastest body " + std::to_string(speed * 100.0) +
-                      " cm/s): a build defect, not a conveyor failure; check for items that lean, "
-                      "overhang or rest on too little");
-  }
+  if (settled) return Result<RestState>{std::move(first), {}};
   RestState rest;
+  read_item_poses(l, *d, items);
+  rest.cannot_stand = stand_failure(*scene_, *d, thresholds, pallet0, items0, items, moved);
   rest.qpos.assign(d->qpos, d->qpos + m->nq);
   rest.qvel.assign(d->qvel, d->qvel + m->nv);
   rest.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m->nv);

@@ -17,6 +17,17 @@
 
 namespace pb {
 
+/// A load that cannot stand on a still belt (a build defect, never a conveyor limit): what moved
+/// while it was settled and held with the belt standing still.
+struct StandFailure {
+  /// The first detector crossing against the as-built poses (its time from the start of the
+  /// settle); mode no_failure when nothing crossed but the load never came to rest.
+  FailureEvent event;
+  int item = -1;   ///< where the collapse starts: the lowest item that moved (or the fastest)
+  int moved = 0;   ///< items that moved more than half the load-shift threshold
+  std::string sentence;  ///< for a supervisor: the item, what it did, what to do
+};
+
 /// The MuJoCo state a probe starts from (2.2.2 has no mj_getState; these are the fields that make
 /// a restart bitwise equal to a continued run), plus the detector baselines.
 struct RestState {
@@ -25,15 +36,22 @@ struct RestState {
   std::vector<double> qacc_warmstart;
   Pose pallet;
   std::vector<Pose> items;
-  double settle_time_s = 0.0;
+  double settle_time_s = 0.0;  ///< when it first came to rest (the hold after it not counted)
   double residual_speed_mps = 0.0;  ///< fastest body when it was declared at rest
+  /// Set when the load cannot stand: then this is not a rest state, and a probe from it is refused
+  /// (ProbeRun reports it unstable).
+  std::optional<StandFailure> cannot_stand;
 };
 
 struct SettleOptions {
   double rest_speed_mps = 0.002;  ///< every body slower than this (and ...)
   double rest_spin_radps = 0.02;  ///< ... turning slower than this: at rest
   double min_time_s = 0.05;
-  double max_time_s = 3.0;  ///< a load still moving then is a build defect
+  /// At rest at every check for this long (the belt still) before the load is declared settled: a
+  /// carton balanced on an edge passes through rest before it tips. The rest state is where the
+  /// load first came to rest; the hold only confirms that it stays there.
+  double hold_s = 0.2;
+  double max_time_s = 3.0;  ///< a load still moving then cannot stand (a build defect)
   double check_every_s = 0.01;
 };
 
@@ -80,9 +98,12 @@ class Simulator {
   /// Fails if MuJoCo cannot allocate the data.
   static Result<Simulator> create(const Scene& scene);
 
-  /// Lets the load come to rest on a still belt. Fails (a build defect, not a conveyor failure)
-  /// if it is still moving after max_time_s, or if the run is unstable.
-  Result<RestState> settle(const SettleOptions& options = {});
+  /// Lets the load come to rest on a still belt and holds it there. A load that crosses a detector
+  /// (`thresholds`, against the as-built poses) or is still moving after max_time_s cannot stand:
+  /// the rest state then carries `cannot_stand` (a build defect, not a conveyor failure). Fails
+  /// when the run is unstable.
+  Result<RestState> settle(const SettleOptions& options = {},
+                           const DetectorThresholds& thresholds = {});
 
   /// Runs `profile` from `rest` (bodies given the profile's initial speed, riding along).
   SimResult run(const RestState& rest, const ConveyorProfile& profile,

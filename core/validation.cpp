@@ -11,6 +11,7 @@
 
 #include "core/pallet_metrics.hpp"
 #include "core/pallet_type.hpp"
+#include "core/static_stability.hpp"
 
 namespace pb {
 
@@ -218,15 +219,18 @@ class PhysicalChecks {
         deck_top_(config.base_dims_m[2]) {}
 
   void run() {
-    const std::vector<double> support =
-        all_usable_ ? support_fractions(config_, c_.limits().support_tolerance_m)
-                    : std::vector<double>(config_.items.size(), 1.0);
+    const double tolerance = c_.limits().support_tolerance_m;
+    const std::vector<double> support = all_usable_
+                                            ? support_fractions(config_, tolerance)
+                                            : std::vector<double>(config_.items.size(), 1.0);
+    if (all_usable_ && c_.limits().check_standing) standings_ = standing(config_, tolerance);
     for (std::size_t i = 0; i < config_.items.size(); ++i) {
       if (!usable_[i]) continue;
       const bool interpenetrates = check_interpenetration(i);
       const bool placed =
           check_below_deck(i) && !interpenetrates && (!all_usable_ || check_floating(i));
-      if (placed && support[i] < c_.limits().low_support_warning) {
+      const bool stands = !placed || standings_.empty() || check_standing(i);
+      if (placed && stands && support[i] < c_.limits().low_support_warning) {
         c_.warning(item_pointer(i), item_name(config_.items[i], i) + " rests on only " +
                                         fixed(100.0 * support[i], 0) +
                                         " % of its footprint; move it over what carries it");
@@ -284,6 +288,57 @@ class PhysicalChecks {
     return false;
   }
 
+  // The item's load (its weight and what it carries) must act at least the stability margin inside
+  // the region it rests on; otherwise it tips, and what is above it follows.
+  bool check_standing(std::size_t i) {
+    const ItemStanding& s = standings_[i];
+    const double required = c_.limits().stability_margin_m;
+    if (s.stands(required)) return true;
+    const double tolerance = c_.limits().support_tolerance_m;
+    const std::vector<std::size_t> carried = carried_items(config_, i, tolerance);
+    const std::string load =
+        carried.empty() ? "" : "the " + std::to_string(carried.size()) +
+                                   (carried.size() == 1 ? " item" : " items") + " it carries";
+    const std::string name = item_name(item(i), i);
+    const std::string subject = carried.empty() ? name : name + " and " + load;
+    std::string message = name + " cannot stand: " +
+                          (carried.empty() ? "its centre of mass" : "the centre of mass of it and " + load) + " is " +
+                          fixed(1000.0 * std::abs(s.margin_m), 0) + " mm " +
+                          (s.margin_m < 0.0 ? "outside" : "inside") +
+                          " the edge of what it rests on (" + supports_phrase(s) +
+                          ") and must be at least " + fixed(1000.0 * required, 0) + " mm inside; ";
+    if (auto shift = standing_correction(config_, standings_, i, required, tolerance)) {
+      message += "move " + subject + " " + shift_phrase(*shift) + " to stand it over its support";
+    } else {
+      message += "no shift of it (with what it carries) by up to its own length stands it: re-stack "
+                 "it, and what is on it, centred over what carries it";
+    }
+    c_.error(item_pointer(i) + "/position", message);
+    return false;
+  }
+
+  std::string supports_phrase(const ItemStanding& s) const {
+    if (s.on_deck) return "the deck";
+    std::string out = s.supports.size() == 1 ? "item " : "items ";
+    for (std::size_t k = 0; k < s.supports.size(); ++k) {
+      if (k > 0) out += k + 1 == s.supports.size() ? " and " : ", ";
+      out += std::to_string(s.supports[k]);
+    }
+    return out;
+  }
+
+  // "24 mm towards -x", or "17 mm towards -x and 9 mm towards +y" (to the millimetre).
+  static std::string shift_phrase(const Vec2& shift) {
+    std::string out;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const long mm = std::lround(1000.0 * shift[k]);
+      if (mm == 0) continue;
+      if (!out.empty()) out += " and ";
+      out += std::to_string(std::labs(mm)) + " mm towards " + (mm < 0 ? "-" : "+") + (k == 0 ? "x" : "y");
+    }
+    return out;
+  }
+
   void check_overhang(std::size_t i) {
     const double overhang = item_overhang_m(item(i), config_.base_dims_m);
     if (overhang <= c_.limits().max_overhang_m) return;
@@ -299,6 +354,7 @@ class PhysicalChecks {
   const std::vector<bool>& usable_;
   bool all_usable_;
   double deck_top_;
+  std::vector<ItemStanding> standings_;  ///< empty: not judged (unusable numbers, or not asked)
 };
 
 void check_gross_mass(Checker& c, const PalletConfig& config) {

@@ -19,7 +19,15 @@ struct ValidationLimits {
   /// type's rated load plus tare applies.
   double max_gross_mass_kg = 1200.0;
   double max_stack_height_m = 1.85;  ///< top of the load above the floor
-  double low_support_warning = 0.5;  ///< warn when an item rests on less than this fraction
+  /// Warn when a standing item rests on less than this fraction of its footprint (precarious).
+  double low_support_warning = 0.5;
+  /// Static stability (static_stability.hpp): the centre of mass of an item and of everything it
+  /// carries must act at least this far inside the edge of the region the item rests on (the
+  /// convex hull of its contact patches), or the item cannot stand (an error). 10 mm: a carton's
+  /// edge is no knife edge (corrugated board crushes a few millimetres under a load), and a
+  /// load balanced within a few millimetres of an edge tips at the first touch; core/README.md.
+  double stability_margin_m = 0.01;
+  bool check_standing = true;  ///< off only to measure what the rule changes
   /// The most items a pallet may carry, checked before anything else (a 20,000-item document is
   /// refused at once, not checked pair by pair). 400: a EUR deck of the smallest catalog cartons
   /// to the height cap is about 300; the engine's own limit (scene.hpp: kMaxSimulationBytes) is

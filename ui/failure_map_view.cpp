@@ -38,6 +38,8 @@ QString modeLabel(FailureMode mode) {
       return QObject::tr("pallet slips");
     case FailureMode::load_shift:
       return QObject::tr("load shifts");
+    case FailureMode::cannot_stand:
+      return QObject::tr("cannot stand");
   }
   return {};
 }
@@ -61,6 +63,7 @@ QColor FailureMapView::cellColor(const Cell& cell) {
       return {120, 70, 190};
     case FailureMode::load_shift:
       return {190, 50, 150};
+    case FailureMode::cannot_stand:
     case FailureMode::no_failure:
       break;
   }

@@ -7,6 +7,7 @@
 #include <QUndoCommand>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/catalog.hpp"
 #include "core/json_io.hpp"
@@ -331,10 +332,21 @@ bool PalletDocument::applyPreset(pb::LayerPattern pattern, const QString& sku, i
   const auto& dims = pb::pallet_type_spec(_pallet.base_pallet_type).dims_m;
   const double footprint = tmpl->dims_m[0] * tmpl->dims_m[1];
   int most = std::max(1, static_cast<int>(std::floor(dims[0] * dims[1] / footprint + 1e-9)));
+  // A layout whose alternate layers had to be laid plain (turned or shifted, some cartons could
+  // not stand) is kept only when no smaller count gives the pattern itself.
+  const auto laid_plain = [](const pb::Result<pb::PalletConfig>& r) {
+    return std::any_of(r.diagnostics.begin(), r.diagnostics.end(),
+                       [](const pb::Diagnostic& d) { return d.pointer == "/pattern"; });
+  };
   pb::Result<pb::PalletConfig> built;
+  std::optional<pb::Result<pb::PalletConfig>> plain;
   for (int ti = most; ti >= 1; --ti) {
     inputs.items_per_layer = ti;
     built = pb::build_from_scanner(inputs, catalog);
+    if (built && laid_plain(built)) {
+      if (!plain) plain = built;
+      continue;
+    }
     if (built) break;
     // Only too many per layer is worth another try; any other reason is final.
     const bool perLayer = std::all_of(
@@ -343,6 +355,7 @@ bool PalletDocument::applyPreset(pb::LayerPattern pattern, const QString& sku, i
         });
     if (!perLayer) break;
   }
+  if (plain && (!built || laid_plain(built))) built = std::move(*plain);
   if (!built) {
     QStringList why;
     for (const auto& d : pb::errors_of(built.diagnostics)) {

@@ -31,6 +31,8 @@ QString modeWords(FailureMode mode) {
       return QObject::tr("the pallet slips on the belt");
     case FailureMode::load_shift:
       return QObject::tr("the load shifts inside");
+    case FailureMode::cannot_stand:
+      return QObject::tr("the load cannot stand (a build defect)");
   }
   return {};
 }
@@ -112,7 +114,10 @@ void ResultsPanel::setResult(const SafetyResult& r) {
                                  "<span style='font-size:14pt'><b>%3</b></span><br>%4")
                       .arg(gradeColor(g.letter).name(), QString(QChar::fromLatin1(g.letter)),
                            q(g.label).toHtmlEscaped(), q(g.advice).toHtmlEscaped()));
-  if (r.verdict == "reject") {
+  if (r.dominant_failure_mode == FailureMode::cannot_stand) {
+    _limits->setText(tr("<b>Build defect:</b> the load cannot stand on a still belt, so no "
+                        "conveyor limit is given. Re-stack it and analyse again."));
+  } else if (r.verdict == "reject") {
     _limits->setText(tr("No safe motion: <b>%1</b> even at the gentlest setting.")
                          .arg(modeWords(r.dominant_failure_mode)));
   } else {

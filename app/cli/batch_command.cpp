@@ -21,6 +21,7 @@ Json summary_json(const BatchStudyOptions& o, const BatchStudy& s) {
   return {{"n", o.n},
           {"seed", o.seed},
           {"anomaly_rate", o.pallet.anomaly_rate},
+          {"wrap", o.pallet.wrap ? std::string(to_string(*o.pallet.wrap)) : "mixed"},
           {"confidence_samples", o.analyzer.confidence.samples},
           {"threads", s.threads},
           {"analysed", s.analysed},
@@ -49,6 +50,7 @@ int run_batch(const Args& args) {
   }
   if (auto t = args.integer("threads")) o.threads = int(std::clamp<std::int64_t>(*t, -1, 100000));
   if (auto r = args.number("anomaly-rate")) o.pallet.anomaly_rate = *r;
+  o.pallet.wrap = random_wrap_option(args, "batch", o.pallet.wrap);
   if (auto m = args.integer("confidence")) {
     if (*m < 0 || *m > 10000) throw UsageError{"batch: --confidence must be 0 to 10000 samples"};
     o.analyzer.confidence.samples = int(*m);
@@ -106,13 +108,14 @@ int run_batch(const Args& args) {
 
 Command batch_command() {
   return {{"batch",
-           "batch [--n N] [--seed S] [--threads T] [--anomaly-rate R] [--confidence M] "
+           "batch [--n N] [--seed S] [--threads T] [--anomaly-rate R] [--wrap W] [--confidence M] "
            "[--out FILE]",
            "the batch study: N random pallets analysed in parallel, limits and modes summarised",
            {{"n", "N", "pallets, seeds S .. S+N-1 (default 400)"},
             {"seed", "S", "first seed (default 0)"},
             {"threads", "T", "analysing threads, each its own analyzer; 0 = every CPU (default 0)"},
             {"anomaly-rate", "R", "scanner anomaly rate of the random pallets (default 0.08)"},
+            {"wrap", "W", "none, shrink, stretch, banded or mixed (per pallet; default stretch)"},
             {"confidence", "M", "samples for each result's confidence (default 0: not estimated)"},
             {"out", "FILE", "write the full study there; stdout gets the summary"}},
            0,

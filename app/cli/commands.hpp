@@ -50,6 +50,14 @@ int run_bench_scale(const Args& args);
 std::vector<int> int_list(const Args& args, const std::string& name, std::vector<int> fallback,
                           int lo, int hi);
 
+/// `study standing`: validation's standing rule against the simulation (app/cli/study_standing.cpp).
+int run_study_standing(const Args& args);
+
+/// The random pallets' wrap from `--wrap none|shrink|stretch|banded|mixed` (mixed: nullopt, drawn
+/// per pallet), or `fallback` when the option is absent; a UsageError naming `command` otherwise.
+std::optional<WrapType> random_wrap_option(const Args& args, const std::string& command,
+                                           std::optional<WrapType> fallback);
+
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);
 

@@ -237,6 +237,7 @@ int run_validate(const Args& args) {
 
 // ---- random ----
 
+
 int run_random(const Args& args) {
   RandomPalletOptions options;
   if (auto v = args.integer("seed")) {
@@ -251,6 +252,7 @@ int run_random(const Args& args) {
   if (auto v = args.integer("max-layers")) options.max_layers = to_int(*v);
   if (auto v = args.integer("min-items")) options.min_items_per_layer = to_int(*v);
   if (auto v = args.integer("max-items")) options.max_items_per_layer = to_int(*v);
+  options.wrap = random_wrap_option(args, "random", options.wrap);
   Diagnostics problems = validate_random_options(options);
   if (has_errors(problems)) {
     // Name the flags, not the struct fields.
@@ -357,14 +359,16 @@ std::vector<Command> data_commands() {
        run_validate},
       {{"random",
         "random --seed N [--anomaly-rate R] [--min-layers A --max-layers B] "
-        "[--min-items A --max-items B]",
-        "A random pallet from the seeded scanner adapter (same seed, same bytes).",
+        "[--min-items A --max-items B] [--wrap W]",
+        "A random pallet from the seeded scanner adapter (same seed, same bytes). Every pallet it "
+        "makes validates and stands, wrapped or not.",
         {{"seed", "N", "seed (default 0)"},
          {"anomaly-rate", "R", "probability of a lean/overhang anomaly, 0..1 (default 0.08)"},
          {"min-layers", "A", "fewest layers (default 3)"},
          {"max-layers", "B", "most layers (default 7)"},
          {"min-items", "A", "fewest items per layer (default 4)"},
-         {"max-items", "B", "most items per layer (default 10)"}},
+         {"max-items", "B", "most items per layer (default 10)"},
+         {"wrap", "W", "none, shrink, stretch, banded, or mixed (drawn per pallet; default stretch)"}},
         0,
         0},
        run_random},
@@ -381,6 +385,16 @@ std::vector<Command> data_commands() {
         0},
        run_friction},
   };
+}
+
+std::optional<WrapType> random_wrap_option(const Args& args, const std::string& command,
+                                           std::optional<WrapType> fallback) {
+  const auto text = args.text("wrap");
+  if (!text) return fallback;
+  if (*text == "mixed") return std::nullopt;
+  if (auto wrap = enum_from_string<WrapType>(*text)) return wrap;
+  throw UsageError{command + ": --wrap is '" + *text + "'; use " + enum_choices<WrapType>() +
+                   " for every pallet, or mixed to draw one per pallet"};
 }
 
 }  // namespace pb::cli

@@ -434,8 +434,9 @@ int run_study(const Args& args) {
   if (what == "speed-accuracy") return run_speed_accuracy(args);
   if (what == "stability") return run_stability(args);
   if (what == "convergence") return run_convergence(args);
+  if (what == "standing") return run_study_standing(args);
   throw UsageError{"study: unknown study '" + what +
-                   "'; choose speed-accuracy, stability or convergence"};
+                   "'; choose speed-accuracy, stability, convergence or standing"};
 }
 
 }  // namespace
@@ -443,19 +444,23 @@ int run_study(const Args& args) {
 std::vector<Command> study_commands() {
   return {
       {{"study",
-        "study speed-accuracy|stability|convergence [--corpus N] [--seed S] [--pallets LIST] "
-        "[--configs LIST] [--out DIR] [--cases LIST] [--json]",
+        "study speed-accuracy|stability|convergence|standing [--corpus N] [--seed S] "
+        "[--pallets LIST] [--configs LIST] [--out DIR] [--cases LIST] [--json] [--wrap W] "
+        "[--min-layers A --max-layers B] [--hold S] [--threads T]",
         "Numerical studies. speed-accuracy: every configuration's envelope (fidelity x timestep "
         "x cone/solver, the shipped default, the reference-equivalent mode) against the reference "
         "configuration over the curated scenarios and N random pallets; writes CSV and a PNG "
         "chart to DIR, prints the table. stability: where numerical methods fail, each case "
         "classified correct / wrong verdict / detected unstable (exit 1 if a broken case gave a "
         "verdict). convergence: the reference at 0.5 ms against 0.25 ms (exit 1 if a limit moves "
-        "more than one of its search steps).",
+        "more than one of its search steps). standing: N random pallets judged by validation's "
+        "standing rule and, with the rule off, settled and held S seconds on a still belt; "
+        "prints the 2x2 table, writes a CSV to --out FILE (exit 1 if a pallet the rule passes "
+        "cannot stand).",
         {{"corpus", "N",
           "random pallets after the curated ones (speed-accuracy default 200, "
-          "convergence default 0)"},
-         {"seed", "S", "seed of the first random pallet (default 1000)"},
+          "convergence default 0; standing: the pallets, default 200)"},
+         {"seed", "S", "seed of the first random pallet (default 1000; standing 0)"},
          {"pallets", "LIST",
           "comma-separated pallet files or slugs instead of the curated "
           "scenarios ('none' for only random pallets)"},
@@ -470,6 +475,11 @@ std::vector<Command> study_commands() {
           "folder for the CSV, the PNG and the reference cache (speed-accuracy "
           "default ./study-speed-accuracy; convergence caches there when given)"},
          {"cases", "LIST", "stability: only these cases"},
+         {"wrap", "W", "standing: the random pallets' wrap, or mixed (default none)"},
+         {"min-layers", "A", "standing: fewest layers (default 2)"},
+         {"max-layers", "B", "standing: most layers (default 7)"},
+         {"hold", "S", "standing: seconds on a still belt after the settle (default 2)"},
+         {"threads", "T", "standing: pallets judged at once (default 0: every CPU)"},
          {"json", "", "print JSON instead of the table"}},
         1,
         1},

@@ -157,6 +157,59 @@ class AnalyzerTest : public QObject {
     QCOMPARE(analyzer.cache_hits(), hits + 2);
     QVERIFY(other->config_hash != first->config_hash);
   }
+
+  // A load that cannot stand is a build defect, not a conveyor limit: refused by validation; and
+  // where the standing rule is off (to reach the simulation), found at rest on a still belt,
+  // reported as a reject of its own mode with no limit, and never probed, mapped or solved.
+  void aLoadThatCannotStandIsABuildDefect() {
+    PalletConfig config = column();
+    config.items[1].position[0] = 0.3;  // its centre of mass 10 cm beyond the lower carton's end
+    Analyzer strict(AnalyzerOptions{}, friction());
+    const auto refused = strict.analyze(config);
+    QVERIFY(!refused);
+    const Diagnostic why = errors_of(refused.diagnostics).front();
+    QCOMPARE(why.pointer, std::string("/items/1/position"));
+    QVERIFY(why.message.find("cannot stand") != std::string::npos);
+
+    AnalyzerOptions options;
+    options.scene.require_standing = false;
+    Analyzer analyzer(options, friction());
+    const auto r = analyzer.analyze(config);
+    QVERIFY2(r, describe(r.diagnostics).c_str());
+    QCOMPARE(r->verdict, std::string("reject"));
+    QCOMPARE(r->dominant_failure_mode, FailureMode::cannot_stand);
+    QCOMPARE(r->accel_mode, FailureMode::cannot_stand);
+    QCOMPARE(r->speed_governed_by, std::string("build_defect"));
+    QCOMPARE(r->sims_run, 1);
+    QVERIFY2(r->reason.find("Item 1 (TEST) cannot stand: with the belt standing still") == 0 ||
+                 r->reason.find("Reject, build defect: Item 1 (TEST) cannot stand") == 0,
+             r->reason.c_str());
+    // No number that reads like a limit in the JSON, and it reads back.
+    const Json json = safety_result_to_json(*r);
+    QVERIFY(json["max_speed_mps"].is_null());
+    QVERIFY(json["max_accel_mps2"].is_null());
+    QCOMPARE(json["dominant_failure_mode"], Json("cannot_stand"));
+    const auto back = safety_result_from_json(json);
+    QVERIFY2(back, describe(back.diagnostics).c_str());
+    QVERIFY(without_runtime(*back) == without_runtime(*r));
+
+    // Nothing runs from a collapsed rest: a solve and a map say why, at the item.
+    const auto solve = analyzer.solve(config, hard_start());
+    QVERIFY(!solve);
+    const Diagnostic defect = errors_of(solve.diagnostics).front();
+    QCOMPARE(defect.pointer, std::string("/items/1"));
+    QVERIFY(defect.message.find("cannot stand") != std::string::npos);
+    QVERIFY(!analyzer.failure_map(config));
+  }
+
+  // A load that stands settles, is held still, and is probed as before: not a defect.
+  void aStandingLoadIsNotADefect() {
+    Analyzer analyzer(AnalyzerOptions{}, friction());
+    auto prepared = analyzer.prepare(column());
+    QVERIFY2(prepared, describe(prepared.diagnostics).c_str());
+    QVERIFY(!(*prepared.value)->rest.cannot_stand);
+    QVERIFY((*prepared.value)->rest.settle_time_s >= SettleOptions{}.min_time_s);
+  }
 };
 
 QTEST_APPLESS_MAIN(AnalyzerTest)

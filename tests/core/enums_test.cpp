@@ -48,7 +48,7 @@ class EnumsTest : public QObject {
     QCOMPARE(EnumTable<Fragility>::names.size(), std::size_t{3});
     QCOMPARE(EnumTable<WrapType>::names.size(), std::size_t{4});
     QCOMPARE(EnumTable<Environment>::names.size(), std::size_t{4});
-    QCOMPARE(EnumTable<FailureMode>::names.size(), std::size_t{5});
+    QCOMPARE(EnumTable<FailureMode>::names.size(), std::size_t{6});
     QCOMPARE(EnumTable<ProfileShape>::names.size(), std::size_t{6});
     QCOMPARE(EnumTable<PalletType>::names.size(), std::size_t{3});
     QCOMPARE(EnumTable<BeltSurface>::names.size(), std::size_t{2});
@@ -80,7 +80,8 @@ class EnumsTest : public QObject {
     QCOMPARE(choices<Environment>(),
              QStringLiteral("frozen, refrigerated, thawed or transitioning"));
     QCOMPARE(choices<FailureMode>(),
-             QStringLiteral("no_failure, tip_over, top_item_slide, pallet_slip or load_shift"));
+             QStringLiteral("no_failure, tip_over, top_item_slide, pallet_slip, load_shift or "
+                            "cannot_stand"));
     QCOMPARE(choices<ProfileShape>(),
              QStringLiteral("accel_hold, constant, ramp_decel, estop, curve or eumos"));
     QCOMPARE(choices<PalletType>(), QStringLiteral("EUR, GMA or CHEP"));

@@ -9,6 +9,7 @@
 
 #include "core/pallet_metrics.hpp"
 #include "core/rng.hpp"
+#include "core/static_stability.hpp"
 
 namespace {
 
@@ -131,27 +132,29 @@ class LayerLayoutTest : public QObject {
     verify_valid(config);
   }
 
-  void brickShiftsAlternateLayersByHalfACell() {
-    // Four cartons: a 2 x 2 grid of 0.80 x 0.60 m leaves room for the full half-cell offset.
+  void brickShiftsAlternateLayersByAQuarterCell() {
+    // Four cartons: a 2 x 2 grid of 0.80 x 0.60 m leaves room for the full quarter-cell offset,
+    // split -0.05 / +0.05; every end carton keeps three quarters of its length on the layer below.
     const auto config = build(inputs(pb::LayerPattern::brick, 4, 3, {"SKU-FM-001"}));
     for (std::size_t k = 0; k < 4; ++k) {
-      QVERIFY(std::abs(config.items[k].position[0] - ((k % 2 == 0 ? -0.2 : 0.2) - 0.1)) < 1e-12);
-      QVERIFY(std::abs(config.items[4 + k].position[0] - ((k % 2 == 0 ? -0.2 : 0.2) + 0.1)) <
+      QVERIFY(std::abs(config.items[k].position[0] - ((k % 2 == 0 ? -0.2 : 0.2) - 0.05)) < 1e-12);
+      QVERIFY(std::abs(config.items[4 + k].position[0] - ((k % 2 == 0 ? -0.2 : 0.2) + 0.05)) <
               1e-12);
       QCOMPARE(config.items[8 + k].position[0], config.items[k].position[0]);
       QCOMPARE(config.items[4 + k].position[1], config.items[k].position[1]);
     }
     QCOMPARE(pb::overhang_m(config), 0.0);
     verify_valid(config);
+    QVERIFY(pb::stands(config, 0.09));  // the end cartons: 0.3 of 0.4 m over the layer below
   }
 
   void brickShiftIsLimitedByTheOverhangLimit() {
-    // Six cartons fill the 1.20 m deck length: the offset is what the 10 cm limit allows.
+    // Six cartons fill the 1.20 m deck length: a quarter cell (0.1 m) fits the 10 cm limit; a
+    // 2 cm limit allows 4 cm.
     const auto config = build(inputs(pb::LayerPattern::brick, 6, 4, {"SKU-FM-001"}));
     const double offset = config.items[6].position[0] - config.items[0].position[0];
-    QVERIFY(std::abs(offset - 0.2) < 1e-5);
-    QVERIFY(pb::overhang_m(config) <= 0.1);
-    QVERIFY(pb::overhang_m(config) > 0.0999);
+    QVERIFY(std::abs(offset - 0.1) < 1e-5);
+    QVERIFY(std::abs(pb::overhang_m(config) - 0.05) < 1e-5);
     verify_valid(config);
 
     pb::ValidationLimits strict;
@@ -373,7 +376,11 @@ class LayerLayoutTest : public QObject {
         const bool fit = d.pointer == "/items_per_layer";
         const bool cap = d.message.find("m limit") != std::string::npos ||
                          d.message.find("may carry") != std::string::npos;
-        QVERIFY2(fit || cap, pb::to_string(d).c_str());
+        // Cartons of different sizes in one layer leave an uneven top that some of the next
+        // layer's cartons cannot stand on: such a scan is refused, naming the carton. Cartons of
+        // one size always stand in every pattern.
+        const bool uneven = distinct_skus > 1 && d.message.find("cannot stand") != std::string::npos;
+        QVERIFY2(fit || cap || uneven, pb::to_string(d).c_str());
         if (!fit) continue;
         // For a single SKU the count the message offers builds (or meets only the caps); with
         // several, fewer items per layer regroup the cyclic barcodes into different layers.
@@ -389,7 +396,7 @@ class LayerLayoutTest : public QObject {
       }
     }
     qInfo("%d of 600 random scans built", built);
-    QVERIFY2(built >= 250, qPrintable(QString::number(built)));
+    QVERIFY2(built >= 200, qPrintable(QString::number(built)));
   }
 };
 

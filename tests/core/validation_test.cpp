@@ -298,9 +298,16 @@ class ValidationTest : public QObject {
   void lowSupport() {
     PalletConfig config = valid();
     config.items[2].position[0] = -0.461;  // 0.14 of its 0.40 m over item 0
-    EXPECT_ONE(validate(config), "/items/2", Severity::warning);
+    // Its centre of mass is 6 cm beyond item 0's end: it cannot stand (an error, not the warning).
+    EXPECT_ONE(validate(config), "/items/2/position", Severity::error);
+    QVERIFY2(contains(only.message, "cannot stand: its centre of mass is 60 mm outside"),
+             only.message.c_str());
+    // Without the standing rule only the low support is left: a warning.
+    ValidationLimits no_standing;
+    no_standing.check_standing = false;
+    EXPECT_ONE(validate(config, no_standing), "/items/2", Severity::warning);
     QVERIFY2(contains(only.message, "35 %"), only.message.c_str());
-    ValidationLimits lenient;
+    ValidationLimits lenient = no_standing;
     lenient.low_support_warning = 0.3;
     QVERIFY(validate(config, lenient).empty());
   }

@@ -109,7 +109,8 @@ class TestTracePlots : public QObject {
         q = TracePlots::Slip, scale = 100.0;
         break;
       case FailureMode::no_failure:
-        QFAIL("a failed replay without a mode");
+      case FailureMode::cannot_stand:
+        QFAIL("a failed replay without a conveyor mode");
     }
     const auto& c = curves[q];
     // The last frame is the moment the detector fired: over the threshold, with its value (the
