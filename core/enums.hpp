@@ -14,7 +14,14 @@ enum class WrapType { none, shrink, stretch, banded };
 enum class Environment { frozen, refrigerated, thawed, transitioning };
 /// cannot_stand is ours: the load moves with the belt standing still (a build defect: no conveyor
 /// limit is given for it).
-enum class FailureMode { no_failure, tip_over, top_item_slide, pallet_slip, load_shift, cannot_stand };
+enum class FailureMode {
+  no_failure,
+  tip_over,
+  top_item_slide,
+  pallet_slip,
+  load_shift,
+  cannot_stand
+};
 enum class ProfileShape { accel_hold, constant, ramp_decel, estop, curve, eumos };
 /// Pallet base types. The base's surface material (wood or plastic) follows from the type.
 enum class PalletType { eur, gma, chep };

@@ -326,8 +326,8 @@ Result<PalletConfig> build_from_scanner(const ScannerInputs& inputs, const Catal
     auto unturned = lay_out_layer(inputs.pattern, 0, skus[l], deck);
     plain.push_back(unturned ? std::move(*unturned) : layers.back());
   }
-  const bool alternates = inputs.pattern == LayerPattern::brick ||
-                          inputs.pattern == LayerPattern::pinwheel;
+  const bool alternates =
+      inputs.pattern == LayerPattern::brick || inputs.pattern == LayerPattern::pinwheel;
 
   // The anomalies at `scale` of their scanned size (each layer shifted by its lean offset, the top
   // layer pushed, clamped to the overhang budget), the alternate layers laid plain or not.
@@ -400,7 +400,8 @@ Result<PalletConfig> build_from_scanner(const ScannerInputs& inputs, const Catal
                      std::string(inputs.pattern == LayerPattern::brick
                                      ? "the alternate layers are not shifted"
                                      : "the alternate layers are not turned") +
-                         ": so laid, some cartons of the " + std::string(to_string(inputs.pattern)) +
+                         ": so laid, some cartons of the " +
+                         std::string(to_string(inputs.pattern)) +
                          " pattern would not stand on the layer below",
                      Severity::warning});
   }

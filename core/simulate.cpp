@@ -73,9 +73,9 @@ StandFailure stand_failure(const Scene& scene, const mjData& d, const DetectorTh
     ++out.moved;
     const bool lower = out.item < 0 || config.items[i].position[2] <
                                            config.items[std::size_t(out.item)].position[2] - 1e-6;
-    const bool level = out.item >= 0 && std::abs(config.items[i].position[2] -
-                                                 config.items[std::size_t(out.item)].position[2]) <=
-                                            1e-6;
+    const bool level =
+        out.item >= 0 && std::abs(config.items[i].position[2] -
+                                  config.items[std::size_t(out.item)].position[2]) <= 1e-6;
     if (lower || (level && moved > moved_most)) {
       out.item = static_cast<int>(i);
       moved_most = moved;

@@ -23,8 +23,8 @@ struct StandFailure {
   /// The first detector crossing against the as-built poses (its time from the start of the
   /// settle); mode no_failure when nothing crossed but the load never came to rest.
   FailureEvent event;
-  int item = -1;   ///< where the collapse starts: the lowest item that moved (or the fastest)
-  int moved = 0;   ///< items that moved more than half the load-shift threshold
+  int item = -1;         ///< where the collapse starts: the lowest item that moved (or the fastest)
+  int moved = 0;         ///< items that moved more than half the load-shift threshold
   std::string sentence;  ///< for a supervisor: the item, what it did, what to do
 };
 
@@ -36,7 +36,7 @@ struct RestState {
   std::vector<double> qacc_warmstart;
   Pose pallet;
   std::vector<Pose> items;
-  double settle_time_s = 0.0;  ///< when it first came to rest (the hold after it not counted)
+  double settle_time_s = 0.0;       ///< when it first came to rest (the hold after it not counted)
   double residual_speed_mps = 0.0;  ///< fastest body when it was declared at rest
   /// Set when the load cannot stand: then this is not a rest state, and a probe from it is refused
   /// (ProbeRun reports it unstable).

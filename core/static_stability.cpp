@@ -27,14 +27,24 @@ struct Patch {
   std::size_t support;        ///< the item under it, or kDeck
 };
 
-Vec2 operator-(const Vec2& a, const Vec2& b) { return {a[0] - b[0], a[1] - b[1]}; }
-Vec2 operator+(const Vec2& a, const Vec2& b) { return {a[0] + b[0], a[1] + b[1]}; }
-Vec2 operator*(double s, const Vec2& a) { return {s * a[0], s * a[1]}; }
-double dot(const Vec2& a, const Vec2& b) { return a[0] * b[0] + a[1] * b[1]; }
+Vec2 operator-(const Vec2& a, const Vec2& b) {
+  return {a[0] - b[0], a[1] - b[1]};
+}
+Vec2 operator+(const Vec2& a, const Vec2& b) {
+  return {a[0] + b[0], a[1] + b[1]};
+}
+Vec2 operator*(double s, const Vec2& a) {
+  return {s * a[0], s * a[1]};
+}
+double dot(const Vec2& a, const Vec2& b) {
+  return a[0] * b[0] + a[1] * b[1];
+}
 double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
-double norm(const Vec2& a) { return std::hypot(a[0], a[1]); }
+double norm(const Vec2& a) {
+  return std::hypot(a[0], a[1]);
+}
 
 std::vector<Vec2> translated(std::vector<Vec2> polygon, const Vec2& by) {
   for (Vec2& v : polygon) v = v + by;
@@ -233,8 +243,8 @@ std::vector<Share> distribute(const std::vector<Patch>& patches, double mass, co
   }
   // The one patch left of several carries everything (a pull cannot remain).
   if (std::count(active.begin(), active.end(), true) == 1) {
-    const auto i = static_cast<std::size_t>(std::find(active.begin(), active.end(), true) -
-                                            active.begin());
+    const auto i =
+        static_cast<std::size_t>(std::find(active.begin(), active.end(), true) - active.begin());
     out[i] = {mass, clamp_into(patches[i].polygon, p)};
   }
   return out;
@@ -291,9 +301,8 @@ std::vector<ItemStanding> standing(const PalletConfig& config, double tolerance_
 
 bool stands(const PalletConfig& config, double margin_m, double tolerance_m) {
   const auto all = standing(config, tolerance_m);
-  return std::all_of(all.begin(), all.end(), [&](const ItemStanding& s) {
-    return s.stands(margin_m);
-  });
+  return std::all_of(all.begin(), all.end(),
+                     [&](const ItemStanding& s) { return s.stands(margin_m); });
 }
 
 std::vector<std::size_t> carried_items(const PalletConfig& config, std::size_t item,
@@ -338,8 +347,8 @@ std::optional<Vec2> standing_correction(const PalletConfig& config,
   }
   towards = (1.0 / norm(towards)) * towards;
   const Item& it = config.items[item];
-  const int steps = static_cast<int>(std::ceil(std::max(it.dims_m[0], it.dims_m[1]) /
-                                               kCorrectionStep));
+  const int steps =
+      static_cast<int>(std::ceil(std::max(it.dims_m[0], it.dims_m[1]) / kCorrectionStep));
   for (int k = 1; k <= steps; ++k) {
     const Vec2 shift = (k * kCorrectionStep) * towards;
     const std::vector<Vec2> moved = convex_hull(contacts(config, item, shift, tolerance_m));

@@ -296,22 +296,25 @@ class PhysicalChecks {
     if (s.stands(required)) return true;
     const double tolerance = c_.limits().support_tolerance_m;
     const std::vector<std::size_t> carried = carried_items(config_, i, tolerance);
-    const std::string load =
-        carried.empty() ? "" : "the " + std::to_string(carried.size()) +
-                                   (carried.size() == 1 ? " item" : " items") + " it carries";
+    const std::string load = carried.empty()
+                                 ? ""
+                                 : "the " + std::to_string(carried.size()) +
+                                       (carried.size() == 1 ? " item" : " items") + " it carries";
     const std::string name = item_name(item(i), i);
     const std::string subject = carried.empty() ? name : name + " and " + load;
-    std::string message = name + " cannot stand: " +
-                          (carried.empty() ? "its centre of mass" : "the centre of mass of it and " + load) + " is " +
-                          fixed(1000.0 * std::abs(s.margin_m), 0) + " mm " +
-                          (s.margin_m < 0.0 ? "outside" : "inside") +
-                          " the edge of what it rests on (" + supports_phrase(s) +
-                          ") and must be at least " + fixed(1000.0 * required, 0) + " mm inside; ";
+    std::string message =
+        name + " cannot stand: " +
+        (carried.empty() ? "its centre of mass" : "the centre of mass of it and " + load) + " is " +
+        fixed(1000.0 * std::abs(s.margin_m), 0) + " mm " +
+        (s.margin_m < 0.0 ? "outside" : "inside") + " the edge of what it rests on (" +
+        supports_phrase(s) + ") and must be at least " + fixed(1000.0 * required, 0) +
+        " mm inside; ";
     if (auto shift = standing_correction(config_, standings_, i, required, tolerance)) {
       message += "move " + subject + " " + shift_phrase(*shift) + " to stand it over its support";
     } else {
-      message += "no shift of it (with what it carries) by up to its own length stands it: re-stack "
-                 "it, and what is on it, centred over what carries it";
+      message +=
+          "no shift of it (with what it carries) by up to its own length stands it: re-stack "
+          "it, and what is on it, centred over what carries it";
     }
     c_.error(item_pointer(i) + "/position", message);
     return false;
@@ -334,7 +337,8 @@ class PhysicalChecks {
       const long mm = std::lround(1000.0 * shift[k]);
       if (mm == 0) continue;
       if (!out.empty()) out += " and ";
-      out += std::to_string(std::labs(mm)) + " mm towards " + (mm < 0 ? "-" : "+") + (k == 0 ? "x" : "y");
+      out += std::to_string(std::labs(mm)) + " mm towards " + (mm < 0 ? "-" : "+") +
+             (k == 0 ? "x" : "y");
     }
     return out;
   }

@@ -115,8 +115,9 @@ void ResultsPanel::setResult(const SafetyResult& r) {
                       .arg(gradeColor(g.letter).name(), QString(QChar::fromLatin1(g.letter)),
                            q(g.label).toHtmlEscaped(), q(g.advice).toHtmlEscaped()));
   if (r.dominant_failure_mode == FailureMode::cannot_stand) {
-    _limits->setText(tr("<b>Build defect:</b> the load cannot stand on a still belt, so no "
-                        "conveyor limit is given. Re-stack it and analyse again."));
+    _limits->setText(
+        tr("<b>Build defect:</b> the load cannot stand on a still belt, so no "
+           "conveyor limit is given. Re-stack it and analyse again."));
   } else if (r.verdict == "reject") {
     _limits->setText(tr("No safe motion: <b>%1</b> even at the gentlest setting.")
                          .arg(modeWords(r.dominant_failure_mode)));

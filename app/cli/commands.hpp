@@ -50,7 +50,8 @@ int run_bench_scale(const Args& args);
 std::vector<int> int_list(const Args& args, const std::string& name, std::vector<int> fallback,
                           int lo, int hi);
 
-/// `study standing`: validation's standing rule against the simulation (app/cli/study_standing.cpp).
+/// `study standing`: validation's standing rule against the simulation
+/// (app/cli/study_standing.cpp).
 int run_study_standing(const Args& args);
 
 /// The random pallets' wrap from `--wrap none|shrink|stretch|banded|mixed` (mixed: nullopt, drawn

@@ -237,7 +237,6 @@ int run_validate(const Args& args) {
 
 // ---- random ----
 
-
 int run_random(const Args& args) {
   RandomPalletOptions options;
   if (auto v = args.integer("seed")) {
@@ -368,7 +367,8 @@ std::vector<Command> data_commands() {
          {"max-layers", "B", "most layers (default 7)"},
          {"min-items", "A", "fewest items per layer (default 4)"},
          {"max-items", "B", "most items per layer (default 10)"},
-         {"wrap", "W", "none, shrink, stretch, banded, or mixed (drawn per pallet; default stretch)"}},
+         {"wrap", "W",
+          "none, shrink, stretch, banded, or mixed (drawn per pallet; default stretch)"}},
         0,
         0},
        run_random},

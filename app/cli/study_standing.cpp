@@ -103,8 +103,7 @@ int run_study_standing(const Args& args) {
     throw UsageError{"study standing: --threads must be 0 (every CPU) to 256"};
   }
   const int threads = int(std::min<std::int64_t>(
-      n, threads_wanted > 0 ? threads_wanted
-                            : std::max(1u, std::thread::hardware_concurrency())));
+      n, threads_wanted > 0 ? threads_wanted : std::max(1u, std::thread::hardware_concurrency())));
 
   std::vector<StandingRow> rows(static_cast<std::size_t>(n));
   std::atomic<std::int64_t> next{0};
@@ -118,8 +117,8 @@ int run_study_standing(const Args& args) {
   }
   for (auto& t : pool) t.join();
 
-  int made = 0, other = 0, judged = 0, refused = 0, refused_falls = 0, passed = 0,
-      passed_falls = 0, unsimulated = 0;
+  int made = 0, other = 0, judged = 0, refused = 0, refused_falls = 0, passed = 0, passed_falls = 0,
+      unsimulated = 0;
   for (const StandingRow& r : rows) {
     made += r.made;
     if (!r.made) continue;
@@ -167,8 +166,8 @@ int run_study_standing(const Args& args) {
   }
   for (const StandingRow& r : rows) {
     if (r.simulated && r.rule_stands && !r.sim_stands) {
-      std::cerr << "study standing: seed " << r.seed << " passes the rule but cannot stand: "
-                << r.why << "\n";
+      std::cerr << "study standing: seed " << r.seed
+                << " passes the rule but cannot stand: " << r.why << "\n";
     }
   }
   return passed_falls > 0 ? kExitFailure : kExitOk;

@@ -3,9 +3,10 @@
 // reference configuration on the three small unwrapped curated scenarios, frozen-pallet-jerk-start
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
-// only (about two minutes on 2 cores). Pinned at what was measured when the corpus was made: 81 %
-// of the 96 limits within one search step, 3 more than one step above the reference (all on
-// brick loads at the edge of standing; core/README.md). Labelled long.
+// only (about two minutes on 2 cores). Pinned at what was measured when the corpus was re-made
+// of loads that can stand (2026-11-24, issue 12): 89 of the 96 limits (93 %) within one search
+// step, 1 more than one step above the reference (u2048's curve, +1.2 steps; the corpus README).
+// Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -60,8 +61,8 @@ class AgreementCorpusCliTest : public QObject {
     const int above = def.value("limits_above").toInt();
     qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
           100.0 * within, above);
-    QVERIFY2(within >= 0.80, qPrintable(QString::number(within)));
-    QVERIFY2(above <= 3, qPrintable(QString::number(above)));
+    QVERIFY2(within >= 0.90, qPrintable(QString::number(within)));
+    QVERIFY2(above <= 1, qPrintable(QString::number(above)));
   }
 };
 

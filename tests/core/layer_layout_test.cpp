@@ -379,7 +379,8 @@ class LayerLayoutTest : public QObject {
         // Cartons of different sizes in one layer leave an uneven top that some of the next
         // layer's cartons cannot stand on: such a scan is refused, naming the carton. Cartons of
         // one size always stand in every pattern.
-        const bool uneven = distinct_skus > 1 && d.message.find("cannot stand") != std::string::npos;
+        const bool uneven =
+            distinct_skus > 1 && d.message.find("cannot stand") != std::string::npos;
         QVERIFY2(fit || cap || uneven, pb::to_string(d).c_str());
         if (!fit) continue;
         // For a single SKU the count the message offers builds (or meets only the caps); with

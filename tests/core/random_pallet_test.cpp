@@ -178,9 +178,9 @@ class RandomPalletTest : public QObject {
       QVERIFY2(!pb::has_errors(diags), qPrintable(QString("seed %1").arg(seed)));
       QVERIFY2(pb::stands(config, pb::ValidationLimits{}.stability_margin_m),
                qPrintable(QString("seed %1").arg(seed)));
-      const std::string pattern = config.notes.substr(config.notes.find(": ") + 2,
-                                                      config.notes.find(' ', config.notes.find(": ") + 2) -
-                                                          config.notes.find(": ") - 2);
+      const std::string pattern = config.notes.substr(
+          config.notes.find(": ") + 2,
+          config.notes.find(' ', config.notes.find(": ") + 2) - config.notes.find(": ") - 2);
       ++per_pattern[pattern];
       reduced += config.notes.find("so that every item stands") != std::string::npos &&
                  config.notes.find("reduced to") != std::string::npos;
@@ -198,8 +198,11 @@ class RandomPalletTest : public QObject {
       qInfo("%s: %d pallets", p, per_pattern[p]);
       QVERIFY2(per_pattern[p] >= 100, p);
     }
-    qInfo("of %d seeds: anomaly reduced in %d, layers trimmed to stand in %d, alternate layers laid plain "
-          "in %d", n, reduced, trimmed, fell_back);
+    qInfo(
+        "of %d seeds: anomaly reduced in %d, layers trimmed to stand in %d, alternate layers laid "
+        "plain "
+        "in %d",
+        n, reduced, trimmed, fell_back);
   }
 
   void capsOfTheLimitsApply() {

@@ -520,8 +520,9 @@ class SimulateTest : public QObject {
     QVERIFY(f.event.mode != FailureMode::no_failure);  // a detector crossed, on a still belt
     QCOMPARE(f.item, 1);
     QCOMPARE(f.moved, 1);
-    QVERIFY2(q(f.sentence).startsWith(QStringLiteral("item 1 (TEST) cannot stand: with the belt "
-                                                     "standing still")),
+    QVERIFY2(q(f.sentence)
+                 .startsWith(QStringLiteral("item 1 (TEST) cannot stand: with the belt "
+                                            "standing still")),
              f.sentence.c_str());
     QVERIFY(rest->settle_time_s < 1.0);  // it goes at once
   }

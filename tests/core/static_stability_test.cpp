@@ -66,8 +66,7 @@ class StaticStabilityTest : public QObject {
   }
   void anOffsetCartonStandsByHalfItsLengthLessTheOffset() {
     QFETCH(double, dx);
-    const auto s =
-        standing(test::pallet({carton(0.0, 0.0, kDeck), carton(dx, 0.0, kDeck + kH)}));
+    const auto s = standing(test::pallet({carton(0.0, 0.0, kDeck), carton(dx, 0.0, kDeck + kH)}));
     QCOMPARE(s[1].supports, std::vector<std::size_t>{0});
     const double expected = dx < 0.2 - 0.15 ? 0.15 : 0.2 - dx;  // the width binds when centred
     QVERIFY2(std::abs(s[1].margin_m - expected) < 1e-9,
@@ -83,9 +82,9 @@ class StaticStabilityTest : public QObject {
   // 2 and 3 act at 0.40, 4 cm beyond carton 1's end (-0.04): carton 2 tips there, over the edge at
   // 0.36, so carton 1 bears 10 kg at 0.16 and 20 kg at 0.36: 0.2933, 93 mm beyond the base's end.
   void subStacksAreJudgedWithWhatTheyCarry() {
-    const auto config = test::pallet({carton(0.0, 0.0, kDeck), carton(0.16, 0.0, kDeck + kH),
-                                      carton(0.32, 0.0, kDeck + 2 * kH),
-                                      carton(0.48, 0.0, kDeck + 3 * kH)});
+    const auto config =
+        test::pallet({carton(0.0, 0.0, kDeck), carton(0.16, 0.0, kDeck + kH),
+                      carton(0.32, 0.0, kDeck + 2 * kH), carton(0.48, 0.0, kDeck + 3 * kH)});
     const auto s = standing(config);
     QVERIFY(std::abs(s[1].margin_m + (0.16 + 2 * 0.36) / 3.0 - 0.2) < 1e-9);
     QVERIFY(std::abs(s[2].margin_m + 0.04) < 1e-9);
@@ -100,8 +99,9 @@ class StaticStabilityTest : public QObject {
     QCOMPARE(found[0].pointer, std::string("/items/1/position"));
     QCOMPARE(found[1].pointer, std::string("/items/2/position"));
     const std::string& m = found[0].message;
-    QVERIFY2(contains(m, "item 1 (test) cannot stand: the centre of mass of it and the 2 items it "
-                         "carries is 93 mm outside the edge of what it rests on (item 0)"),
+    QVERIFY2(contains(m,
+                      "item 1 (test) cannot stand: the centre of mass of it and the 2 items it "
+                      "carries is 93 mm outside the edge of what it rests on (item 0)"),
              m.c_str());
     QVERIFY2(contains(m, "move item 1 (test) and the 2 items it carries "), m.c_str());
     QVERIFY2(contains(m, "towards -x"), m.c_str());
@@ -127,9 +127,9 @@ class StaticStabilityTest : public QObject {
   // pressure over the union (x from -0.35 to 0.05, the load at -0.24: eccentric by 0.09, beyond
   // the kern's L/6) would pull on the small patch over item 1: it is lifted, item 0 takes all.
   void aSupportTheLoadWouldPullOnIsLifted() {
-    PalletConfig config = test::pallet(
-        {carton(-0.2, 0.0, kDeck), carton(0.2, 0.0, kDeck), carton(-0.15, 0.0, kDeck + kH),
-         carton(-0.25, 0.0, kDeck + 2 * kH, {0.2, 0.3, 0.2}, 90.0)});
+    PalletConfig config = test::pallet({carton(-0.2, 0.0, kDeck), carton(0.2, 0.0, kDeck),
+                                        carton(-0.15, 0.0, kDeck + kH),
+                                        carton(-0.25, 0.0, kDeck + 2 * kH, {0.2, 0.3, 0.2}, 90.0)});
     const auto s = standing(config);
     QCOMPARE(s[2].supports, (std::vector<std::size_t>{0, 1}));
     QVERIFY(std::abs(s[2].load_point[0] + 0.24) < 1e-9);
@@ -155,8 +155,8 @@ class StaticStabilityTest : public QObject {
   void theCorrectionMakesItStand() {
     QFETCH(double, dx);
     QFETCH(double, dy);
-    PalletConfig config = test::pallet({carton(0.0, 0.0, kDeck), carton(dx, dy, kDeck + kH),
-                                        carton(dx, dy, kDeck + 2 * kH)});
+    PalletConfig config = test::pallet(
+        {carton(0.0, 0.0, kDeck), carton(dx, dy, kDeck + kH), carton(dx, dy, kDeck + 2 * kH)});
     const auto s = standing(config);
     QVERIFY(s[1].margin_m < 0.01);
     const auto shift = standing_correction(config, s, 1, 0.01);
@@ -197,9 +197,10 @@ class StaticStabilityTest : public QObject {
     QVERIFY(errors(offset(0.19)).empty());  // 10 mm inside
     const Diagnostics nine = errors(offset(0.191));
     QVERIFY2(nine.size() == 1, qPrintable(describe(nine)));
-    QVERIFY(contains(nine[0].message, "is 9 mm inside the edge of what it rests on (item 0) and "
-                                      "must be at least 10 mm inside; move item 1 (test) 1 mm "
-                                      "towards -x"));
+    QVERIFY(contains(nine[0].message,
+                     "is 9 mm inside the edge of what it rests on (item 0) and "
+                     "must be at least 10 mm inside; move item 1 (test) 1 mm "
+                     "towards -x"));
     ValidationLimits off;
     off.check_standing = false;
     QVERIFY(errors_of(validate(offset(0.3), off)).empty());

@@ -48,6 +48,28 @@ class TestResultsPanel : public QObject {
     QCOMPARE(panel.reasonText(), QStringLiteral("Start-up to 3.4 m/s^2 (then top_item_slide)."));
   }
 
+  // A load that cannot stand: a build defect, no limit and no speed anywhere on the panel.
+  void buildDefectShowsNoLimits() {
+    ResultsPanel panel;
+    SafetyResult r;
+    r.verdict = "reject";
+    r.speed_governed_by = "build_defect";
+    r.dominant_failure_mode = r.accel_mode = r.decel_mode = r.lateral_mode = r.speed_mode =
+        FailureMode::cannot_stand;
+    r.reason =
+        "Reject, build defect: Item 7 (SKU-FD-003) cannot stand: with the belt standing "
+        "still, item 7 moved 5.1 cm on the pallet within 0.40 s of being stacked.";
+    panel.setResult(r);
+    QVERIFY2(panel.gradeText().contains(QStringLiteral("Build defect: re-stack")),
+             qPrintable(panel.gradeText()));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("Build defect")));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("no conveyor limit")));
+    for (const QString& text : {panel.gradeText(), panel.limitsText()}) {
+      QVERIFY2(!text.contains(QStringLiteral("m/s")), qPrintable(text));
+    }
+    QVERIFY(panel.reasonText().contains(QStringLiteral("Item 7 (SKU-FD-003) cannot stand")));
+  }
+
   void rejectSaysRejectAndRewrap() {
     ResultsPanel panel;
     SafetyResult r = okResult();

@@ -358,6 +358,43 @@ class TestStackBuilder : public QObject {
     QVERIFY2(wideGrid.right() < wideCatalog.left(), "the catalog is beside the deck");
   }
 
+  // A carton whose centre of mass is beyond the end of the one under it: the findings say it
+  // cannot stand (naming its stack and the shift), the grid outlines it red, before any dispatch.
+  void anItemThatCannotStandIsRedWithItsSentence() {
+    PalletDocument doc;
+    StackBuilderPanel panel(&doc);
+    panel.resize(1000, 640);
+    pb::PalletConfig config = doc.pallet();
+    const pb::SkuTemplate* sku = pb::Catalog::builtin().find(kSku.toStdString());
+    QVERIFY(sku != nullptr);
+    pb::Item bottom = pb::make_item(*sku, {0.0, 0.0, config.base_dims_m[2]}, 0.0);
+    pb::Item top = pb::make_item(*sku, {0.7 * sku->dims_m[0], 0.0, bottom.top_z()}, 0.0);
+    config.items = {bottom, top};
+    QVERIFY(doc.replacePallet(config, QStringLiteral("overhanging carton")));
+    QVERIFY(!doc.isValid());
+    const QString texts = panel.findingTexts().join(u'\n');
+    QVERIFY2(texts.contains(QStringLiteral("cannot stand: its centre of mass is")),
+             qPrintable(texts));
+    QVERIFY2(texts.contains(QStringLiteral("towards -x to stand it over its support")),
+             qPrintable(texts));
+    const auto stacks = pb::ui::stacks_of(doc.pallet());
+    bool named = false;
+    for (const auto& d : pb::errors_of(doc.diagnostics())) {
+      if (pb::ui::stack_of_finding(d, stacks) >= 0) named = true;
+    }
+    QVERIFY(named);
+    panel.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&panel));
+    StackBuilderGrid* grid = panel.grid();
+    grid->setSelectedStack(-1);
+    const QImage image = grid->grab().toImage();
+    QVERIFY(panel.grab().toImage().save(
+        QStringLiteral(PB_TEST_ARTIFACTS_DIR "/panel_stack_builder_cannot_stand.png")));
+    // The middle of the overhanging carton's front (+X) edge: the red outline.
+    const QPoint edge = grid->deckPixel({top.position[0] + top.dims_m[0] / 2.0, 0.0}).toPoint();
+    QCOMPARE(image.pixelColor(edge).rgb(), QColor(0xd0, 0x10, 0x10).rgb());
+  }
+
   // The panel with a scenario loaded, one stack selected: the artifact, and its pixels.
   void panelScreenshot() {
     PalletDocument doc;
