@@ -49,7 +49,9 @@ struct SettleOptions {
   double min_time_s = 0.05;
   /// At rest at every check for this long (the belt still) before the load is declared settled: a
   /// carton balanced on an edge passes through rest before it tips. The rest state is where the
-  /// load first came to rest; the hold only confirms that it stays there.
+  /// load first came to rest; the hold only confirms that it stays there. A load never quiet for a
+  /// whole hold by max_time_s, whose items nevertheless all stayed within a quarter of the
+  /// load-shift threshold of that state (contact chatter, not motion), is settled too.
   double hold_s = 0.2;
   double max_time_s = 3.0;  ///< a load still moving then cannot stand (a build defect)
   double check_every_s = 0.01;
