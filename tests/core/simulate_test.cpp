@@ -503,6 +503,23 @@ class SimulateTest : public QObject {
     QVERIFY(normal->residual_speed_mps < SettleOptions{}.rest_speed_mps);
   }
 
+  // 8a. A load quiet at some checks but never for a whole hold, whose items stay put, stands:
+  // contact chatter is not motion. Here the hold cannot fit in the settle time at all.
+  void aLoadThatStaysPutStandsWithoutAWholeHold() {
+    Rig rig = build(pallet_of({carton(kCarton, 10.0)}), {});
+    QVERIFY2(rig.error.empty(), rig.error.c_str());
+    SettleOptions o;
+    o.hold_s = 1.0;
+    o.max_time_s = 0.5;
+    auto rest = rig.sim->settle(o);
+    QVERIFY2(rest, describe(rest.diagnostics).c_str());
+    QVERIFY(!rest->cannot_stand);
+    auto normal = rig.sim->settle();
+    QVERIFY(normal.ok());
+    QCOMPARE(rest->qpos, normal->qpos);  // the first rest, whatever the hold
+    QCOMPARE(rest->settle_time_s, normal->settle_time_s);
+  }
+
   // 8b. A carton whose centre of mass is beyond the end of the carton under it (the standing rule
   // off, to reach the simulation) tips on a still belt: a detector crossing against the as-built
   // poses, named at the carton that moved, and no rest state to probe.
