@@ -49,17 +49,6 @@ std::vector<Vec2> clip_by_edge(const std::vector<Vec2>& poly, const Vec2& a, con
   return out;
 }
 
-// Shoelace formula; positive for a counter-clockwise polygon.
-double signed_area(const std::vector<Vec2>& poly) {
-  double twice = 0.0;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2& p = poly[i];
-    const Vec2& q = poly[(i + 1) % poly.size()];
-    twice += p[0] * q[1] - q[0] * p[1];
-  }
-  return twice / 2.0;
-}
-
 }  // namespace
 
 double total_mass_kg(const PalletConfig& config) {
@@ -118,6 +107,16 @@ std::array<Vec2, 4> item_footprint(const Item& item) {
   return corners;
 }
 
+double polygon_area(const std::vector<Vec2>& poly) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
+    twice += p[0] * q[1] - q[0] * p[1];
+  }
+  return twice / 2.0;
+}
+
 std::vector<Vec2> convex_intersection(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   std::vector<Vec2> clipped = a;
   for (std::size_t i = 0; i < b.size() && !clipped.empty(); ++i) {
@@ -129,7 +128,7 @@ std::vector<Vec2> convex_intersection(const std::vector<Vec2>& a, const std::vec
 
 double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   const std::vector<Vec2> clipped = convex_intersection(a, b);
-  return clipped.empty() ? 0.0 : std::abs(signed_area(clipped));
+  return clipped.empty() ? 0.0 : std::abs(polygon_area(clipped));
 }
 
 std::vector<Vec2> deck_polygon(const Vec3& base_dims_m) {

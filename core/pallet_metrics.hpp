@@ -38,6 +38,9 @@ std::vector<Vec2> footprint_polygon(const Item& item);
 /// The deck's rectangle, centred on the origin, counter-clockwise.
 std::vector<Vec2> deck_polygon(const Vec3& base_dims_m);
 
+/// Signed area of a polygon (shoelace): positive when counter-clockwise (m^2).
+double polygon_area(const std::vector<Vec2>& polygon);
+
 /// The intersection of two convex polygons given counter-clockwise (Sutherland-Hodgman), counter-
 /// clockwise; empty when they share less than a polygon.
 std::vector<Vec2> convex_intersection(const std::vector<Vec2>& a, const std::vector<Vec2>& b);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace pb {
 
@@ -33,6 +34,19 @@ double Simulator::data_bytes() const {
 }
 
 namespace {
+
+// The state a probe starts from: the data as it is now.
+RestState capture(const mjModel& m, const mjData& d, const SceneLayout& l, double speed) {
+  RestState rest;
+  rest.qpos.assign(d.qpos, d.qpos + m.nq);
+  rest.qvel.assign(d.qvel, d.qvel + m.nv);
+  rest.qacc_warmstart.assign(d.qacc_warmstart, d.qacc_warmstart + m.nv);
+  rest.pallet = body_pose(d, l.pallet_body);
+  read_item_poses(l, d, rest.items);
+  rest.settle_time_s = d.time;
+  rest.residual_speed_mps = speed;
+  return rest;
+}
 
 // What a detector saw move on a still belt, without the detector's name or time.
 std::string what_moved(const FailureEvent& e) {
@@ -64,21 +78,20 @@ StandFailure stand_failure(const Scene& scene, const mjData& d, const DetectorTh
   const auto& config = scene.config;
   const Pose pallet = body_pose(d, scene.layout.pallet_body);
   StandFailure out;
-  double moved_most = 0.0;
+  // The culprit: lowest as built (to a micrometre), then the one that moved most.
+  auto rank = [&](std::size_t i, double moved) {
+    return std::pair{std::round(config.items[i].position[2] * 1e6), -moved};
+  };
+  std::pair<double, double> best{0.0, 0.0};
   for (std::size_t i = 0; i < items.size() && i < config.items.size(); ++i) {
     const Vec3 a = to_frame(pallet, items[i].pos);
     const Vec3 b = to_frame(pallet0, items0[i].pos);
     const double moved = std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
     if (moved <= 0.5 * t.load_shift_m) continue;
     ++out.moved;
-    const bool lower = out.item < 0 || config.items[i].position[2] <
-                                           config.items[std::size_t(out.item)].position[2] - 1e-6;
-    const bool level =
-        out.item >= 0 && std::abs(config.items[i].position[2] -
-                                  config.items[std::size_t(out.item)].position[2]) <= 1e-6;
-    if (lower || (level && moved > moved_most)) {
+    if (out.item < 0 || rank(i, moved) < best) {
       out.item = static_cast<int>(i);
-      moved_most = moved;
+      best = rank(i, moved);
     }
   }
   const auto& l = scene.layout;
@@ -144,15 +157,6 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // The state where the load first came to rest: the rest state, once the hold confirms it (the
   // hold checks; it does not move the start of the probes).
   RestState first;
-  auto snapshot = [&] {
-    first.qpos.assign(d->qpos, d->qpos + m->nq);
-    first.qvel.assign(d->qvel, d->qvel + m->nv);
-    first.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m->nv);
-    first.pallet = body_pose(*d, l.pallet_body);
-    read_item_poses(l, *d, first.items);
-    first.settle_time_s = d->time;
-    first.residual_speed_mps = speed;
-  };
   std::optional<FailureEvent> moved;
   int step = 0;
   BeltWatch belt;
@@ -180,7 +184,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       quiet_since = -1;
     } else if (quiet_since < 0) {
       quiet_since = step;
-      if (first.qpos.empty()) snapshot();
+      if (first.qpos.empty()) first = capture(*m, *d, l, speed);
     }
     settled = quiet_since >= 0 && step - quiet_since >= hold_steps;
   }
@@ -206,15 +210,8 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
     settled = crept < 0.25 * thresholds.load_shift_m;
   }
   if (settled) return Result<RestState>{std::move(first), {}};
-  RestState rest;
+  RestState rest = capture(*m, *d, l, speed);
   rest.cannot_stand = stand_failure(*scene_, *d, thresholds, pallet0, items0, items, moved);
-  rest.qpos.assign(d->qpos, d->qpos + m->nq);
-  rest.qvel.assign(d->qvel, d->qvel + m->nv);
-  rest.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m->nv);
-  rest.pallet = body_pose(*d, l.pallet_body);
-  read_item_poses(l, *d, rest.items);
-  rest.settle_time_s = d->time;
-  rest.residual_speed_mps = speed;
   return Result<RestState>{std::move(rest), {}};
 }
 

@@ -63,16 +63,6 @@ Box bounds(const std::vector<Vec2>& polygon) {
   return b;
 }
 
-double polygon_area(const std::vector<Vec2>& p) {
-  double twice = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec2& a = p[i];
-    const Vec2& b = p[(i + 1) % p.size()];
-    twice += a[0] * b[1] - b[0] * a[1];
-  }
-  return twice / 2.0;
-}
-
 // What item `i`, shifted horizontally by `shift`, rests on: the deck, or the items whose top is at
 // its bottom.
 std::vector<Patch> contacts(const PalletConfig& config, std::size_t i, const Vec2& shift,
