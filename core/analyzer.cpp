@@ -122,6 +122,11 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   return Result<PreparedPallet*>{out, std::move(scene.diagnostics)};
 }
 
+void Analyzer::set_cancel(const CancelFlag* flag) {
+  options_.sim.cancel = flag;
+  options_.settle.cancel = flag;
+}
+
 bool Analyzer::grow_buffers(std::string key, const Diagnostics& why) {
   if (!mentions_buffer_overflow(why)) return false;
   double& scale = buffer_scale_.try_emplace(key, 1.0).first->second;

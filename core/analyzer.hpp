@@ -81,7 +81,13 @@ class Analyzer {
                       double replay_hz = 30.0);
 
   const AnalyzerOptions& options() const { return options_; }
+  /// Every later run checks `flag` (settle and probes: cancel.hpp); a call cancelled part-way
+  /// fails with a diagnostic whose message contains "cancelled" and caches nothing of its work.
+  /// nullptr: runs are not cancellable. The flag must outlive the calls that use it.
+  void set_cancel(const CancelFlag* flag);
   int cache_hits() const { return cache_hits_; }
+  /// Pallets prepared and kept (each holds its compiled scene and simulation data).
+  std::size_t cached_pallets() const { return prepared_.size(); }
   void clear_cache();
 
  private:

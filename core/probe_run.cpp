@@ -270,7 +270,10 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   r_.steps = k;
   r_.sim_time_s = t_next;
   std::optional<std::string> broken;
-  if (any_warning(d)) broken = instability_reason(&m, &d).value_or("MuJoCo raised a warning");
+  if (is_cancelled(o_.cancel)) broken = std::string(kCancelledReason);
+  if (!broken && any_warning(d)) {
+    broken = instability_reason(&m, &d).value_or("MuJoCo raised a warning");
+  }
   if (!broken) {
     broken = belt_watch_.check(
         std::hypot(d.qvel[l.belt_x_dof] - command_x_, d.qvel[l.belt_y_dof] - command_y_));

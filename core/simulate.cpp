@@ -168,6 +168,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       }
     });
     step += check_every;
+    if (!error && is_cancelled(o.cancel)) error = std::string(kCancelledReason);
     if (!error) error = instability_reason(m, d);
     if (error) {
       *error += " (by t = " + fixed(step * m->opt.timestep, 3) + " s)";
@@ -190,6 +191,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   }
   if (error) {
     mj_resetData(m, d);
+    if (is_cancelled(o.cancel)) return Result<RestState>::failure("", std::string(kCancelledReason));
     return Result<RestState>::failure(
         "", "the load could not be settled on a still belt: " + *error +
                 "; the layout or the numerical settings are at fault, not the conveyor");

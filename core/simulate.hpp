@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cancel.hpp"
 #include "core/conveyor_profile.hpp"
 #include "core/detectors.hpp"
 #include "core/diagnostic.hpp"
@@ -55,6 +56,8 @@ struct SettleOptions {
   double hold_s = 0.2;
   double max_time_s = 3.0;  ///< a load still moving then cannot stand (a build defect)
   double check_every_s = 0.01;
+  /// When set, the settle stops at its next check and fails ("cancelled"). Not owned.
+  const CancelFlag* cancel = nullptr;
 };
 
 enum class Outcome { safe, failed, unstable };
@@ -78,6 +81,9 @@ struct SimOptions {
   /// stop decides instead (when on).
   bool skip_comoving = true;
   double skip_dwell_s = 0.02;
+  /// When set, a probe stops after its current step and ends unstable, its reason starting with
+  /// kCancelledReason: no verdict (a search that meets one fails). Not owned.
+  const CancelFlag* cancel = nullptr;
 };
 
 struct SimResult {

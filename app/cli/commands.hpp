@@ -37,8 +37,6 @@ std::vector<Command> study_commands();
 
 /// map FILE: the failure map (app/cli/map_command.cpp).
 Command map_command();
-/// The JSON of a failure map (cells per acceleration row, line cells, derived envelope).
-Json failure_map_json(const FailureMap& map);
 /// batch: the batch study of random pallets (app/cli/batch_command.cpp).
 Command batch_command();
 

@@ -12,6 +12,7 @@
 #include "core/friction.hpp"
 #include "core/pallet_metrics.hpp"
 #include "core/random_pallet.hpp"
+#include "core/result_json.hpp"
 #include "core/scenario.hpp"
 #include "core/validation.hpp"
 
@@ -93,30 +94,6 @@ void print_diagnostics(const Diagnostics& diagnostics) {
 
 namespace {
 
-Json diagnostics_json(const Diagnostics& diagnostics) {
-  Json out = Json::array();
-  for (const auto& d : diagnostics) out.push_back({{"pointer", d.pointer}, {"message", d.message}});
-  return out;
-}
-
-// Validation of one pallet with the recomputed summary a supervisor checks first.
-Json pallet_report(const PalletConfig& config, const Diagnostics& diagnostics) {
-  const auto support = support_fractions(config);
-  Json j;
-  j["valid"] = !has_errors(diagnostics);
-  j["errors"] = diagnostics_json(errors_of(diagnostics));
-  j["warnings"] = diagnostics_json(warnings_of(diagnostics));
-  j["pallet_id"] = config.pallet_id;
-  j["items"] = config.items.size();
-  j["total_mass_kg"] = total_mass_kg(config);
-  j["composite_com_m"] = composite_com_m(config);
-  j["stack_height_m"] = stack_height_m(config);
-  j["overhang_m"] = overhang_m(config);
-  j["min_support_fraction"] =
-      support.empty() ? 1.0 : *std::min_element(support.begin(), support.end());
-  return j;
-}
-
 // ---- scenarios ----
 
 int run_scenarios(const Args& args) {
@@ -166,7 +143,7 @@ int run_scenarios(const Args& args) {
       const Diagnostics diags = validate(s.pallet);
       auto rebuilt = build_from_recipe(s);
       const bool matches = rebuilt.ok() && *rebuilt.value == s.pallet;
-      entry["validation"] = pallet_report(s.pallet, diags);
+      entry["validation"] = validation_report_to_json(s.pallet, diags);
       entry["recipe_matches"] = matches;
       const bool ok = !has_errors(diags) && matches;
       all_valid = all_valid && ok;
@@ -228,9 +205,9 @@ int run_validate(const Args& args) {
   }
   print_diagnostics(diags);
   if (input) {
-    print_json(pallet_report(input->pallet, diags));
+    print_json(validation_report_to_json(input->pallet, diags));
   } else {
-    print_json({{"valid", false}, {"errors", diagnostics_json(errors_of(diags))}});
+    print_json({{"valid", false}, {"errors", diagnostics_to_json(errors_of(diags))}});
   }
   return has_errors(diags) ? kExitBadInput : kExitOk;
 }

@@ -8,6 +8,7 @@
 #include "app/cli/commands.hpp"
 #include "core/analyzer.hpp"
 #include "core/failure_map.hpp"
+#include "core/result_json.hpp"
 #include "core/text.hpp"
 
 namespace pb::cli {
@@ -36,48 +37,6 @@ std::vector<double> grid_option(const Args& args, const std::string& name) {
   if (!values || values->empty()) throw UsageError{bad};
   return *values;
 }
-
-Json cell_json(const MapCell& c) {
-  Json j = {{"outcome", to_string(c.outcome)},
-            {"mode", to_string(c.mode)},
-            {"failure_time_s", c.outcome == Outcome::failed ? Json(c.failure_time_s) : Json()},
-            {"decided_by", to_string(c.decided_by)},
-            {"non_monotone", c.non_monotone}};
-  if (!c.reason.empty()) j["reason"] = c.reason;
-  return j;
-}
-
-}  // namespace
-
-Json failure_map_json(const FailureMap& map) {
-  Json rows = Json::array();
-  for (std::size_t j = 0; j < map.accels_mps2.size(); ++j) {
-    Json row = Json::array();
-    for (std::size_t i = 0; i < map.speeds_mps.size(); ++i) {
-      row.push_back(cell_json(map.at(int(i), int(j))));
-    }
-    rows.push_back(std::move(row));
-  }
-  Json line = Json::array();
-  for (const auto& c : map.line_cells) line.push_back(cell_json(c));
-  return {{"speeds_mps", map.speeds_mps},
-          {"accels_mps2", map.accels_mps2},
-          {"cells", std::move(rows)},
-          {"line_cells", std::move(line)},
-          {"envelope",
-           {{"max_speed_mps", map.max_speed_mps},
-            {"speed_mode", to_string(map.speed_mode)},
-            {"max_accel_mps2", map.max_accel_mps2},
-            {"accel_mode", to_string(map.accel_mode)},
-            {"reject", map.reject}}},
-          {"unstable_cells", map.unstable_cells},
-          {"non_monotone_cells", map.non_monotone_cells},
-          {"sims", map.sims},
-          {"threads", map.threads},
-          {"wall_ms", map.wall_ms}};
-}
-
-namespace {
 
 int run_map(const Args& args) {
   MapOptions options;
@@ -128,7 +87,7 @@ int run_map(const Args& args) {
     }
     return input_fault ? kExitBadInput : kExitFailure;
   }
-  Json out = failure_map_json(*map);
+  Json out = failure_map_to_json(*map);
   out["source"] = source;
   out["pallet_id"] = input->pallet.pallet_id;
   out["line"] = {{"estop_decel_mps2", ao.line.estop_decel_mps2},

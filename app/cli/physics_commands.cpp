@@ -11,6 +11,7 @@
 #include "core/analyzer.hpp"
 #include "core/fidelity.hpp"
 #include "core/reference_search.hpp"
+#include "core/result_json.hpp"
 #include "core/scenario.hpp"
 #include "core/scene.hpp"
 #include "core/text.hpp"
@@ -73,14 +74,6 @@ std::ofstream open_output(const std::string& verb, const std::string& path) {
   return out;
 }
 
-Json failure_json(const std::optional<FailureEvent>& failure) {
-  if (!failure) return nullptr;
-  return {{"mode", to_string(failure->mode)},
-          {"time_s", failure->time_s},
-          {"value", failure->value},
-          {"items", failure->items},
-          {"description", describe(*failure)}};
-}
 
 Json messages_json(const Diagnostics& diagnostics) {
   Json out = Json::array();
@@ -158,20 +151,6 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
   return p;
 }
 
-Json solve_json(const SimResult& sim, const ConveyorProfile& profile) {
-  Json j;
-  j["outcome"] = to_string(sim.outcome);
-  j["failure"] = failure_json(sim.failure);
-  if (sim.outcome == Outcome::unstable) j["reason"] = sim.reason;
-  j["steps"] = sim.steps;
-  j["steps_skipped"] = sim.steps_skipped;
-  j["skipped_s"] = sim.skipped_s;
-  j["sim_time_s"] = sim.sim_time_s;
-  j["stopped_early"] = sim.stopped_early;
-  j["wall_ms"] = sim.wall_ms;
-  j["profile"] = profile_to_json(profile);
-  return j;
-}
 
 // --fidelity: which model answers (core/fidelity.hpp); automatic when absent.
 Fidelity fidelity_option(const Args& args, const std::string& verb) {
@@ -211,7 +190,7 @@ int run_solve(const Args& args) {
     return exit_code_for(solve.diagnostics);
   }
   if (replay_file) *replay_file << replay_to_json(solve->replay).dump() << "\n";
-  Json out = solve_json(solve->sim, profile);
+  Json out = sim_result_to_json(solve->sim, profile);
   if (auto prepared = analyzer.prepare(input->pallet)) {  // cached: the model that ran
     out["fidelity"] = to_string((*prepared.value)->fidelity.level);
     out["timestep_s"] = (*prepared.value)->scene->options.timestep_s;
@@ -250,21 +229,6 @@ AnalyzerOptions analyze_options(const Args& args) {
   return o;
 }
 
-Json probes_json(const std::vector<Probe>& probes) {
-  Json out = Json::array();
-  for (const auto& p : probes) {
-    out.push_back(
-        {{"axis", to_string(p.axis)},
-         {"value", p.value},
-         {"outcome", to_string(p.outcome)},
-         {"mode", to_string(p.mode)},
-         {"failure_time_s", p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)},
-         {"sim_time_s", p.sim_time_s},
-         {"steps", p.steps},
-         {"wall_ms", p.wall_ms}});
-  }
-  return out;
-}
 
 struct FileAnalysis {
   Json entry;
@@ -292,7 +256,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
       return error_entry(source, diags, exit_code_for(diags));
     }
     entry = safety_result_to_json(envelope->result);
-    entry["probes"] = probes_json(envelope->probes);
+    entry["probes"] = probes_to_json(envelope->probes);
   } else {
     auto result = analyzer.analyze(input->pallet);
     if (!result) {

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT
+#include "app/server/http_server.hpp"
+
+#include <httplib.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <netinet/in.h>
+#include <arpa/inet.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <filesystem>
+
+namespace pb::server {
+
+namespace {
+
+// The port and numeric address of a socket address.
+bool address_of(const sockaddr_storage& a, std::string& host, int& port) {
+  char text[INET6_ADDRSTRLEN] = {};
+  if (a.ss_family == AF_INET) {
+    const auto* v4 = reinterpret_cast<const sockaddr_in*>(&a);
+    inet_ntop(AF_INET, &v4->sin_addr, text, sizeof text);
+    port = ntohs(v4->sin_port);
+  } else if (a.ss_family == AF_INET6) {
+    const auto* v6 = reinterpret_cast<const sockaddr_in6*>(&a);
+    inet_ntop(AF_INET6, &v6->sin6_addr, text, sizeof text);
+    port = ntohs(v6->sin6_port);
+  } else {
+    return false;
+  }
+  host = text;
+  return true;
+}
+
+/// The descriptor of this process's connected socket from `remote` to `local_port`, or -1.
+/// cpp-httplib 0.11 gives a handler no socket (0.12 added Request::is_connection_closed), so the
+/// connection is found by its address pair, once per request that may run long.
+int find_connection(const std::string& remote_addr, int remote_port, int local_port) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", ec)) {
+    int fd = -1;
+    try {
+      fd = std::stoi(entry.path().filename().string());
+    } catch (...) {
+      continue;
+    }
+    struct stat st {};
+    if (fstat(fd, &st) != 0 || !S_ISSOCK(st.st_mode)) continue;
+    sockaddr_storage peer{}, self{};
+    socklen_t peer_len = sizeof peer, self_len = sizeof self;
+    if (getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &peer_len) != 0) continue;
+    if (getsockname(fd, reinterpret_cast<sockaddr*>(&self), &self_len) != 0) continue;
+    std::string peer_host, self_host;
+    int pp = -1, sp = -1;
+    if (!address_of(peer, peer_host, pp) || !address_of(self, self_host, sp)) continue;
+    if (pp == remote_port && sp == local_port && peer_host == remote_addr) return fd;
+  }
+  return -1;
+}
+
+/// False once the peer has closed (an orderly shutdown reads as 0 bytes) or the socket failed.
+bool peer_connected(int fd) {
+  char c = 0;
+  const ssize_t n = recv(fd, &c, 1, MSG_PEEK | MSG_DONTWAIT);
+  if (n > 0) return true;  // a pipelined next request: still there
+  if (n == 0) return false;
+  return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
+}
+
+}  // namespace
+
+struct HttpServer::Impl {
+  httplib::Server server;
+};
+
+HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_unique<Impl>()) {
+  httplib::Server& s = impl_->server;
+  const PoolOptions& pool = service.options().pool;
+  const int threads =
+      options.threads > 0 ? options.threads : pool.analyzers + pool.max_waiting + 4;
+  s.new_task_queue = [threads] { return new httplib::ThreadPool(std::size_t(threads)); };
+  s.set_payload_max_length(service.options().max_body_bytes);
+  s.set_keep_alive_timeout(options.keep_alive_s);
+  s.set_read_timeout(30, 0);
+  s.set_write_timeout(30, 0);
+  const std::vector<std::string> origins = options.cors_origins;
+  auto cors = [origins](const httplib::Request& req, httplib::Response& res) {
+    const std::string origin = req.get_header_value("Origin");
+    if (origin.empty() || origins.empty()) return;
+    const bool any = std::find(origins.begin(), origins.end(), "*") != origins.end();
+    if (!any && std::find(origins.begin(), origins.end(), origin) == origins.end()) return;
+    res.set_header("Access-Control-Allow-Origin", any ? "*" : origin);
+    if (!any) res.set_header("Vary", "Origin");
+  };
+  const std::size_t max_body = service.options().max_body_bytes;
+  auto handle = [&service, cors](const httplib::Request& req, httplib::Response& res) {
+    Request request;
+    request.method = req.method;
+    request.path = req.path;
+    for (const auto& [k, v] : req.params) request.query.emplace(k, v);
+    request.body = req.body;
+    // Looked up lazily, by the watchdog's first poll: cheap requests never pay for it.
+    auto fd = std::make_shared<int>(-2);
+    const std::string remote = req.remote_addr;
+    const int remote_port = req.remote_port, local_port = req.local_port;
+    request.client_alive = [fd, remote, remote_port, local_port] {
+      if (*fd == -2) *fd = find_connection(remote, remote_port, local_port);
+      return *fd < 0 || peer_connected(*fd);
+    };
+    Response response = service.handle(request);
+    cors(req, res);
+    for (const auto& [k, v] : response.headers) res.set_header(k, v);
+    res.status = response.status;
+    res.set_content(response.body, response.content_type.c_str());
+  };
+  s.Get(".*", handle);
+  s.Post(".*", handle);
+  s.Put(".*", handle);
+  s.Delete(".*", handle);
+  s.Patch(".*", handle);
+  s.Options(".*", [cors, origins](const httplib::Request& req, httplib::Response& res) {
+    cors(req, res);  // a preflight: what a browser may send
+    res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
+    res.set_header("Access-Control-Allow-Headers", "*");
+    res.set_header("Access-Control-Max-Age", "600");
+    res.status = 204;
+  });
+  // What cpp-httplib answers itself (an oversized body, a malformed request) gets our JSON.
+  s.set_error_handler([max_body](const httplib::Request& req, httplib::Response& res) {
+    if (!res.body.empty()) return;
+    std::string detail = "the request could not be read (HTTP " + std::to_string(res.status) + ")";
+    if (res.status == 413) {
+      detail = "the body is larger than this service's limit of " + std::to_string(max_body) +
+               " bytes (--max-body); send a smaller document";
+      // cpp-httplib parses a form body itself and caps it at 8 KiB, whatever our limit.
+      if (req.get_header_value("Content-Type").starts_with("application/x-www-form-urlencoded")) {
+        detail = "the body was sent as application/x-www-form-urlencoded, which is read only up "
+                 "to 8192 bytes; send JSON with the header content-type: application/json";
+      }
+    }
+    nlohmann::json body = {{"detail", detail}, {"errors", nlohmann::json::array()}};
+    res.set_content(body.dump(), "application/json");
+  });
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+    res.status = 500;
+    res.set_content(R"({"detail":"internal error","errors":[]})", "application/json");
+  });
+  port_ = options.port;
+  host_ = options.host;
+}
+
+HttpServer::~HttpServer() = default;
+
+bool HttpServer::bind(std::string& error) {
+  httplib::Server& s = impl_->server;
+  if (port_ == 0) {
+    port_ = s.bind_to_any_port(host_);
+    if (port_ < 0) {
+      error = "cannot listen on " + host_ + ": no free port";
+      return false;
+    }
+    return true;
+  }
+  if (!s.bind_to_port(host_, port_)) {
+    error = "cannot listen on " + host_ + ":" + std::to_string(port_) +
+            " (in use, or not an address of this machine); choose another --port or --host";
+    return false;
+  }
+  return true;
+}
+
+void HttpServer::listen() { impl_->server.listen_after_bind(); }
+
+void HttpServer::stop() { impl_->server.stop(); }
+
+}  // namespace pb::server

@@ -1,0 +1,861 @@
+// SPDX-License-Identifier: MIT
+#include "app/server/service.hpp"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <random>
+#include <variant>
+
+#include "app/server/reference_api.hpp"
+#include "core/catalog.hpp"
+#include "core/explain.hpp"
+#include "core/fingerprint.hpp"
+#include "core/friction.hpp"
+#include "core/json_io.hpp"
+#include "core/random_pallet.hpp"
+#include "core/replay.hpp"
+#include "core/result_json.hpp"
+#include "core/scenario.hpp"
+#include "core/scene.hpp"
+#include "core/text.hpp"
+#include "core/uncertainty.hpp"
+#include "core/validation.hpp"
+
+namespace pb::server {
+
+using Params = std::map<std::string, std::string>;
+
+namespace {
+
+// ---- responses ----
+
+Response json_response(int status, const Json& body) {
+  Response r;
+  r.status = status;
+  r.body = body.dump();
+  return r;
+}
+
+/// {"detail": sentence, "errors": [{"pointer", "message"}]}: "detail" as the reference's
+/// (FastAPI's) clients read it, "errors" as ours (the CLI's pointers and sentences).
+Response error_response(int status, const std::string& detail, const Diagnostics& errors = {}) {
+  return json_response(status, {{"detail", detail}, {"errors", diagnostics_to_json(errors)}});
+}
+
+Response diagnostics_response(int status, const Diagnostics& diagnostics) {
+  const Diagnostics errors = errors_of(diagnostics);
+  std::string detail;
+  for (const auto& d : errors) {
+    detail += (detail.empty() ? "" : "; ") + (d.pointer.empty() ? d.message : to_string(d));
+  }
+  if (detail.empty()) detail = "the request was refused";
+  return error_response(status, detail, errors);
+}
+
+/// A run that ended without a verdict: 200, "unstable" and its reason (never limits).
+Response no_verdict(const std::string& reason) {
+  return json_response(200, {{"result", nullptr}, {"unstable", true}, {"reason", reason}});
+}
+
+/// Work the pool did not do or stopped: busy or stopped by the deadline, by the client going
+/// away (nobody reads this answer; 499, as proxies log it) or by the service stopping.
+Response refusal_response(const Refusal& refusal, const Ticket& ticket) {
+  if (refusal.kind == Refusal::busy) {
+    Response r = error_response(503, refusal.message);
+    r.headers["Retry-After"] = "1";
+    return r;
+  }
+  switch (ticket.reason()) {
+    case StopReason::client_gone:
+      return error_response(499, "the client closed the connection; the work was stopped");
+    case StopReason::shutdown:
+      return error_response(503, "the service is shutting down; retry on another instance");
+    default:
+      return error_response(
+          503, "the work took longer than this service's limit of " +
+                   short_number(ticket.time_limit_s()) +
+                   " s per request and was stopped (--time-limit); nothing of it is cached. "
+                   "Retry later, or ask the operator for a longer limit");
+  }
+}
+
+/// Core diagnostics of a pallet read at `prefix`: pointers moved into the request's document.
+Diagnostics located(Diagnostics diagnostics, const std::string& prefix) {
+  for (auto& d : diagnostics) {
+    if (!d.pointer.empty()) d.pointer = prefix + d.pointer;
+  }
+  return diagnostics;
+}
+
+/// A core failure: the input's fault (422) when a diagnostic points into it, else a run without
+/// a verdict (the engine or instability: 200, "unstable").
+Response core_failure(const Diagnostics& diagnostics, const std::string& prefix) {
+  for (const auto& d : errors_of(diagnostics)) {
+    if (!d.pointer.empty()) return diagnostics_response(422, located(diagnostics, prefix));
+  }
+  std::string reason;
+  for (const auto& d : errors_of(diagnostics)) reason += (reason.empty() ? "" : "; ") + d.message;
+  return no_verdict(reason.empty() ? "the engine gave no verdict" : reason);
+}
+
+// ---- reading requests ----
+
+using Read = std::variant<Json, Response>;
+
+Read parse_body(const Request& request) {
+  if (request.body.empty()) {
+    return error_response(400, "the request has no body; send JSON (content-type: application/json)");
+  }
+  auto json = parse_json(request.body);
+  if (!json) return diagnostics_response(400, json.diagnostics);
+  return std::move(*json.value);
+}
+
+/// The pallet of a body: the body itself, or its "pallet" member when it has one.
+const Json& pallet_member(const Json& body, std::string& prefix) {
+  if (body.is_object() && body.contains("pallet") && body["pallet"].is_object()) {
+    prefix = "/pallet";
+    return body["pallet"];
+  }
+  prefix = "";
+  return body;
+}
+
+/// A valid pallet from `json` (read at `prefix`), or the response that says why not: 413 over the
+/// item limit (before any work), 422 with every error otherwise. Warnings come with the pallet.
+std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json, const std::string& prefix,
+                                                         std::size_t max_items) {
+  if (!json.is_object()) {
+    return error_response(422, (prefix.empty() ? "the body" : prefix) +
+                                   " must be a PalletConfig JSON object",
+                          {{prefix, "must be a PalletConfig JSON object", Severity::error}});
+  }
+  if (auto it = json.find("items"); it != json.end() && it->is_array() && it->size() > max_items) {
+    return error_response(
+        413, "the pallet has " + std::to_string(it->size()) + " items; this service analyses at most " +
+                 std::to_string(max_items) + " (--max-items); split the load or ask for a larger limit",
+        {{prefix + "/items", "at most " + std::to_string(max_items) + " items", Severity::error}});
+  }
+  auto pallet = pallet_from_json(json, prefix);
+  if (!pallet) return diagnostics_response(422, pallet.diagnostics);
+  Diagnostics diags = pallet.diagnostics;
+  for (auto d : validate(*pallet.value)) {
+    d.pointer = prefix + d.pointer;
+    diags.push_back(std::move(d));
+  }
+  if (has_errors(diags)) return diagnostics_response(422, diags);
+  return Result<PalletConfig>{std::move(*pallet.value), std::move(diags)};
+}
+
+/// A number from a JSON member (absent: `fallback`), in [lo, hi]; an error naming the member.
+std::variant<double, Response> number_member(const Json& body, const std::string& key,
+                                             double fallback, double lo, double hi) {
+  if (!body.is_object() || !body.contains(key) || body[key].is_null()) return fallback;
+  const Json& v = body[key];
+  if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
+    const std::string what = "must be a number from " + short_number(lo) + " to " + short_number(hi);
+    return error_response(422, "/" + key + " " + what, {{"/" + key, what, Severity::error}});
+  }
+  return v.get<double>();
+}
+
+/// A query parameter as a number (absent: `fallback`), in [lo, hi].
+std::variant<double, Response> number_param(const Request& request, const std::string& key,
+                                            std::optional<double> fallback, double lo, double hi) {
+  auto it = request.query.find(key);
+  const std::string range = "a number from " + short_number(lo) + " to " + short_number(hi);
+  if (it == request.query.end()) {
+    if (fallback) return *fallback;
+    return error_response(422, "the query parameter '" + key + "' is required: " + range);
+  }
+  const std::string& text = it->second;
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !(v >= lo && v <= hi)) {
+    return error_response(422, "the query parameter '" + key + "' is '" + text + "'; use " + range);
+  }
+  return v;
+}
+
+template <class T>
+bool holds_response(const std::variant<T, Response>& v) {
+  return std::holds_alternative<Response>(v);
+}
+
+std::string known_pairs() {
+  std::string out;
+  for (const auto& k : FrictionModel::builtin().pair_keys()) out += (out.empty() ? "" : ", ") + k;
+  return out;
+}
+
+// ---- the service's own answers ----
+
+Json axis_json(const AxisLimit& a) {
+  return {{"limit", a.limit},
+          {"mode", to_string(a.mode)},
+          {"at_ceiling", a.at_ceiling},
+          {"at_floor", a.at_floor},
+          {"closed_form", a.closed_form},
+          {"probes", a.probes},
+          {"derived", a.derived}};
+}
+
+Json explain_json(const SafetyResult& result) {
+  const Grade g = grade(result);
+  return {{"grade", std::string(1, g.letter)},
+          {"label", g.label},
+          {"advice", g.advice},
+          {"reason", result.reason},
+          {"compared_with",
+           "the fixed table the line runs today: " + short_number(kTableSpeedMps) + " m/s, start-up " +
+               short_number(kTableAccelMps2) + " m/s^2"}};
+}
+
+struct AxisChoice {
+  Axis axis;
+  const AxisLimit* limit;
+  double lo, hi, precision;
+};
+
+std::vector<AxisChoice> axes_of(const Envelope& env, const SearchConfig& s) {
+  return {{Axis::accel, &env.accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2},
+          {Axis::decel, &env.decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2},
+          {Axis::lateral, &env.lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g},
+          {Axis::speed, &env.speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps}};
+}
+
+ConveyorProfile probe_profile(Axis axis, double value, const LineDescription& line,
+                              const SearchConfig& s) {
+  switch (axis) {
+    case Axis::accel: return accel_probe_profile(value, s);
+    case Axis::decel: return decel_probe_profile(value, s.speed_max_mps, s);
+    case Axis::lateral: return lateral_probe_profile(value, line, s);
+    case Axis::speed: return stop_probe_profile(value, line, s);
+  }
+  return {};
+}
+
+}  // namespace
+
+// ---- the routes ----
+
+Service::Service(ServiceOptions options)
+    : options_(std::move(options)), pool_(options_.pool) {
+  const std::size_t max_items = options_.max_items;
+  auto ticket_for = [this](const Request& request) {
+    return std::make_unique<Ticket>(
+        std::chrono::duration_cast<Ticket::Clock::duration>(
+            std::chrono::duration<double>(options_.time_limit_s)),
+        request.client_alive);
+  };
+  const AnalyzerOptions& ao = options_.pool.analyzer;
+
+  auto get = [this](std::string pattern, auto handler) {
+    routes_.push_back({"GET", std::move(pattern), handler});
+  };
+  auto post = [this](std::string pattern, auto handler) {
+    routes_.push_back({"POST", std::move(pattern), handler});
+  };
+
+  get("/", [this](const Request&, const Params&) {
+    Json list = Json::array();
+    for (const auto& r : routes_) list.push_back(r.method + " " + r.pattern);
+    return json_response(200, {{"service", "palletballet-server"},
+                               {"version", options_.version},
+                               {"routes", list}});
+  });
+  get("/healthz", [this](const Request&, const Params&) {
+    const PoolStats s = pool_.stats();
+    return json_response(200, {{"status", "ok"},
+                               {"version", options_.version},
+                               {"analyzers", s.analyzers},
+                               {"busy", s.busy},
+                               {"queue_depth", s.waiting},
+                               {"cached_envelopes", s.cached_envelopes}});
+  });
+  get("/metrics", [this](const Request&, const Params&) {
+    Response r;
+    r.body = metrics_.text(pool_.stats());
+    r.content_type = "text/plain; version=0.0.4";
+    return r;
+  });
+
+  // -- scenarios, catalog, friction --
+  get("/scenarios", [](const Request&, const Params&) {
+    Json list = Json::array();
+    for (const auto& s : all_scenarios()) list.push_back(scenario_summary_json(s));
+    return json_response(200, list);
+  });
+  get("/scenarios/{slug}", [](const Request&, const Params& p) {
+    auto scenario = load_scenario(p.at("slug"));
+    if (!scenario) return diagnostics_response(404, scenario.diagnostics);
+    return json_response(200, scenario_to_json(*scenario));
+  });
+  get("/catalog/skus", [](const Request&, const Params&) {
+    Json list = Json::array();
+    for (const auto& t : Catalog::builtin().all()) list.push_back(sku_info_json(t));
+    return json_response(200, list);
+  });
+  get("/catalog/skus/{sku}", [](const Request&, const Params& p) {
+    const SkuTemplate* t = Catalog::builtin().find(p.at("sku"));
+    if (t == nullptr) {
+      return error_response(404, "no SKU '" + p.at("sku") + "' in the catalog; GET /catalog/skus "
+                                 "lists them");
+    }
+    return json_response(200, sku_info_json(*t));
+  });
+  auto pair_param = [](const Request& request) -> std::variant<std::string, Response> {
+    auto it = request.query.find("pair");
+    const std::string pair = it == request.query.end() ? "wood_pallet/rubber_belt" : it->second;
+    if (FrictionModel::builtin().find(pair) == nullptr) {
+      return error_response(422, "the query parameter 'pair' is '" + pair +
+                                     "'; use one of " + known_pairs());
+    }
+    return pair;
+  };
+  get("/friction/pairs", [](const Request&, const Params&) {
+    return json_response(200, FrictionModel::builtin().pair_keys());
+  });
+  get("/friction", [pair_param](const Request& request, const Params&) {
+    auto pair = pair_param(request);
+    if (holds_response(pair)) return std::get<Response>(pair);
+    auto t = number_param(request, "temp_c", std::nullopt, -40.0, 40.0);
+    if (holds_response(t)) return std::get<Response>(t);
+    auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
+    if (holds_response(since)) return std::get<Response>(since);
+    const auto value = FrictionModel::builtin().effective(std::get<std::string>(pair),
+                                                          std::get<double>(t),
+                                                          std::get<double>(since));
+    return json_response(200, friction_point_json(std::get<double>(t), *value));
+  });
+  get("/friction/curve", [pair_param](const Request& request, const Params&) {
+    auto pair = pair_param(request);
+    if (holds_response(pair)) return std::get<Response>(pair);
+    auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
+    auto t_min = number_param(request, "t_min", -30.0, -40.0, 40.0);
+    auto t_max = number_param(request, "t_max", 25.0, -40.0, 40.0);
+    auto n = number_param(request, "n", 56.0, 2.0, 500.0);
+    for (const auto* v : {&since, &t_min, &t_max, &n}) {
+      if (holds_response(*v)) return std::get<Response>(*v);
+    }
+    const double lo = std::get<double>(t_min), hi = std::get<double>(t_max);
+    const int count = int(std::get<double>(n));
+    if (hi < lo) return error_response(422, "t_max must not be below t_min");
+    const std::string& key = std::get<std::string>(pair);
+    Json points = Json::array();
+    for (int i = 0; i < count; ++i) {
+      const double t = lo + i * (hi - lo) / (count - 1);
+      points.push_back(friction_point_json(
+          t, *FrictionModel::builtin().effective(key, t, std::get<double>(since))));
+    }
+    const auto slash = key.find('/');
+    return json_response(200, {{"surface_pair", {key.substr(0, slash), key.substr(slash + 1)}},
+                               {"seconds_since_temp_change", std::get<double>(since)},
+                               {"points", std::move(points)}});
+  });
+
+  // -- pallets --
+  post("/pallet/random", [](const Request& request, const Params&) {
+    Json body = Json::object();
+    if (!request.body.empty()) {
+      auto parsed = parse_body(request);
+      if (holds_response(parsed)) return std::get<Response>(parsed);
+      body = std::get<Json>(parsed);
+      if (!body.is_object()) return error_response(422, "the body must be a JSON object");
+    }
+    RandomPalletOptions o;
+    Diagnostics problems;
+    auto integer = [&](const char* key, auto& field, std::int64_t lo, std::int64_t hi) {
+      if (!body.contains(key) || body[key].is_null()) return;
+      const Json& v = body[key];
+      if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi) {
+        problems.push_back({std::string("/") + key,
+                            "must be a whole number from " + std::to_string(lo) + " to " +
+                                std::to_string(hi),
+                            Severity::error});
+        return;
+      }
+      field = static_cast<std::remove_reference_t<decltype(field)>>(v.get<std::int64_t>());
+    };
+    if (!body.contains("seed") || body["seed"].is_null()) {
+      o.seed = std::random_device{}();  // the reference draws one too; the pallet_id names it
+    }
+    integer("seed", o.seed, 0, std::numeric_limits<std::int64_t>::max());
+    integer("min_layers", o.min_layers, 1, 100);
+    integer("max_layers", o.max_layers, 1, 100);
+    integer("min_items_per_layer", o.min_items_per_layer, 1, 100);
+    integer("max_items_per_layer", o.max_items_per_layer, 1, 100);
+    if (body.contains("anomaly_rate") && !body["anomaly_rate"].is_null()) {
+      if (!body["anomaly_rate"].is_number()) {
+        problems.push_back({"/anomaly_rate", "must be a number from 0 to 1", Severity::error});
+      } else {
+        o.anomaly_rate = body["anomaly_rate"].get<double>();
+      }
+    }
+    if (body.contains("wrap") && !body["wrap"].is_null()) {
+      const Json& w = body["wrap"];
+      const auto wrap = w.is_string() ? enum_from_string<WrapType>(w.get<std::string>())
+                                      : std::optional<WrapType>();
+      if (w.is_string() && w.get<std::string>() == "mixed") {
+        o.wrap = std::nullopt;
+      } else if (!wrap) {
+        problems.push_back({"/wrap", "must be " + enum_choices<WrapType>() + " or mixed",
+                            Severity::error});
+      } else {
+        o.wrap = *wrap;
+      }
+    }
+    if (!has_errors(problems)) problems = validate_random_options(o);
+    if (has_errors(problems)) return diagnostics_response(422, problems);
+    auto pallet = random_pallet(o, Catalog::builtin());
+    if (!pallet) return core_failure(pallet.diagnostics, "");
+    return json_response(200, pallet_to_json(*pallet));
+  });
+  post("/pallet/validate", [max_items](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    auto pallet = read_pallet(std::get<Json>(body), "", max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    return json_response(200, pallet_to_json(*std::get<Result<PalletConfig>>(pallet)));
+  });
+  post("/v1/validate", [max_items](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    std::string prefix;
+    const Json& pj = pallet_member(std::get<Json>(body), prefix);
+    auto pallet = read_pallet(pj, prefix, max_items);
+    if (!holds_response(pallet)) {
+      const auto& p = std::get<Result<PalletConfig>>(pallet);
+      return json_response(200, validation_report_to_json(*p, p.diagnostics));
+    }
+    // An invalid pallet is still a report (200): what is wrong, where.
+    const Response& r = std::get<Response>(pallet);
+    if (r.status != 422) return r;
+    const Json refused = Json::parse(r.body);
+    return json_response(200, {{"valid", false}, {"errors", refused["errors"]},
+                               {"warnings", Json::array()}});
+  });
+  post("/mjcf/build", [max_items](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    auto pallet = read_pallet(std::get<Json>(body), "", max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    Json out;
+    if (auto it = request.query.find("surface_pair"); it != request.query.end()) {
+      if (FrictionModel::builtin().find(it->second) == nullptr) {
+        return error_response(422, "surface_pair is '" + it->second + "'; use one of " +
+                                       known_pairs());
+      }
+      out["note"] = "surface_pair is not used: each contact's friction pair follows from the "
+                    "pallet (its base type, the items' material and temperature)";
+    }
+    auto scene = build_scene(config);
+    if (!scene) return core_failure(scene.diagnostics, "");
+    out["pallet_id"] = config.pallet_id;
+    out["mjcf_xml"] = scene->mjcf;
+    out["bytes"] = scene->mjcf.size();
+    return json_response(200, out);
+  });
+
+  // -- physics --
+  auto solve = [this, max_items, ticket_for, &ao](const Request& request, bool reference) {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    const Json& body = std::get<Json>(parsed);
+    if (!body.is_object() || !body.contains("pallet")) {
+      return error_response(422, "the body must be {\"pallet\": PalletConfig, \"profile\": "
+                                 "ConveyorProfile, ...}",
+                            {{"/pallet", "is required", Severity::error}});
+    }
+    auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    ConveyorProfile profile;
+    if (body.contains("profile")) {
+      auto p = profile_from_json(body["profile"], "/profile");
+      if (!p) return diagnostics_response(422, p.diagnostics);
+      profile = *p.value;
+    }
+    const Diagnostics bad_profile = validate_profile(profile, "/profile");
+    if (has_errors(bad_profile)) return diagnostics_response(422, bad_profile);
+    if (body.contains("thresholds") && !body["thresholds"].is_null()) {
+      const Json& t = body["thresholds"];
+      const DetectorThresholds& ours = ao.sim.thresholds;
+      const bool same = t.is_object() && t.value("tip_angle_deg", ours.tip_deg) == ours.tip_deg &&
+                        t.value("item_slide_m", ours.item_slide_m) == ours.item_slide_m &&
+                        t.value("load_shift_m", ours.load_shift_m) == ours.load_shift_m &&
+                        t.value("pallet_slip_m", ours.pallet_slip_m) == ours.pallet_slip_m;
+      if (!same) {
+        return error_response(
+            422, "/thresholds: this service detects failures at its own thresholds (tip " +
+                     short_number(ours.tip_deg) + " deg, item slide " +
+                     short_number(ours.item_slide_m) + " m, load shift " +
+                     short_number(ours.load_shift_m) + " m, pallet slip " +
+                     short_number(ours.pallet_slip_m) + " m); remove the field or send those",
+            {{"/thresholds", "differs from the service's detector thresholds", Severity::error}});
+      }
+    }
+    auto hz = number_member(body, reference ? "output_hz" : "hz", reference ? 50.0 : 30.0, 1.0,
+                            1000.0);
+    if (holds_response(hz)) return std::get<Response>(hz);
+    const bool include_replay = !reference || body.value("include_replay", false);
+    auto ticket = ticket_for(request);
+    std::optional<Result<Solve>> run;
+    std::string fidelity;
+    auto refusal = pool_.run(*ticket, [&](Analyzer& analyzer) {
+      run = analyzer.solve(config, profile, std::get<double>(hz));
+      if (auto prepared = analyzer.prepare(config)) {
+        fidelity = std::string(to_string((*prepared.value)->fidelity.level));
+      }
+    });
+    if (refusal) return refusal_response(*refusal, *ticket);
+    if (!*run) return core_failure(run->diagnostics, "/pallet");
+    pool_.count_simulations(1);
+    const Solve& s = **run;
+    if (reference) return json_response(200, solve_response_json(config, s, include_replay, fidelity));
+    Json out = sim_result_to_json(s.sim, profile);
+    out["fidelity"] = fidelity;
+    out["replay"] = replay_to_json(s.replay);
+    return json_response(200, out);
+  };
+  post("/solve", [solve](const Request& r, const Params&) { return solve(r, true); });
+  post("/v1/solve", [solve](const Request& r, const Params&) { return solve(r, false); });
+
+  post("/safety/analyze", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    std::string prefix;
+    const Json& pj = pallet_member(std::get<Json>(body), prefix);
+    auto pallet = read_pallet(pj, prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    auto ticket = ticket_for(request);
+    auto analysis = pool_.analyze(*ticket, *std::get<Result<PalletConfig>>(pallet));
+    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
+    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
+    return json_response(200, analyze_response_json(std::get<Analysis>(analysis)));
+  });
+  post("/safety/batch", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    const Json& body = std::get<Json>(parsed);
+    if (!body.is_array()) return error_response(422, "the body must be a JSON array of pallets");
+    if (body.size() > options_.max_batch) {
+      return error_response(413, "the batch has " + std::to_string(body.size()) +
+                                     " pallets; this service takes at most " +
+                                     std::to_string(options_.max_batch) +
+                                     " per request (--max-batch); send several batches");
+    }
+    std::vector<PalletConfig> pallets;
+    Diagnostics problems;
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      auto pallet = read_pallet(body[i], "/" + std::to_string(i), max_items);
+      if (auto* r = std::get_if<Response>(&pallet)) {
+        if (r->status == 413) return *r;
+        for (const auto& e : Json::parse(r->body)["errors"]) {
+          problems.push_back({e["pointer"], e["message"], Severity::error});
+        }
+        continue;
+      }
+      pallets.push_back(std::move(*std::get<Result<PalletConfig>>(pallet).value));
+    }
+    if (has_errors(problems)) return diagnostics_response(422, problems);
+    auto ticket = ticket_for(request);
+    Json out = Json::array();
+    for (std::size_t i = 0; i < pallets.size(); ++i) {
+      auto analysis = pool_.analyze(*ticket, pallets[i]);
+      if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
+      if (auto* d = std::get_if<Diagnostics>(&analysis)) {
+        out.push_back(Json::parse(core_failure(*d, "/" + std::to_string(i)).body));
+        continue;
+      }
+      out.push_back(analyze_response_json(std::get<Analysis>(analysis)));
+    }
+    return json_response(200, out);
+  });
+
+  // -- ours --
+  post("/v1/analyze", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    std::string prefix;
+    const Json& pj = pallet_member(std::get<Json>(body), prefix);
+    auto pallet = read_pallet(pj, prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    const auto& config = std::get<Result<PalletConfig>>(pallet);
+    auto ticket = ticket_for(request);
+    auto analysis = pool_.analyze(*ticket, *config);
+    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
+    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
+    const Analysis& a = std::get<Analysis>(analysis);
+    const Envelope& env = a.cached->envelope;
+    Json reference = analyze_response_json(a);
+    Json out;
+    out["result"] = reference["result"];
+    out["cached"] = a.cache_hit;
+    out["axes"] = {{"accel", axis_json(env.accel)},
+                   {"decel", axis_json(env.decel)},
+                   {"lateral", axis_json(env.lateral)},
+                   {"speed", axis_json(env.speed)}};
+    out["probes"] = probes_to_json(env.probes);
+    out["explain"] = explain_json(env.result);
+    out["warnings"] = diagnostics_to_json(warnings_of(located(config.diagnostics, "")));
+    out["line"] = {{"estop_decel_mps2", pool_.options().analyzer.line.estop_decel_mps2},
+                   {"curve_radius_m", pool_.options().analyzer.line.curve_radius_m}};
+    return json_response(200, out);
+  });
+  post("/v1/explain", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto body = parse_body(request);
+    if (holds_response(body)) return std::get<Response>(body);
+    std::string prefix;
+    auto pallet = read_pallet(pallet_member(std::get<Json>(body), prefix), prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    auto ticket = ticket_for(request);
+    auto analysis = pool_.analyze(*ticket, *std::get<Result<PalletConfig>>(pallet));
+    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
+    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
+    return json_response(200, explain_json(std::get<Analysis>(analysis).cached->envelope.result));
+  });
+  post("/v1/map", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    const Json& body = std::get<Json>(parsed);
+    std::string prefix;
+    auto pallet = read_pallet(pallet_member(body, prefix), prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    MapOptions grids;
+    for (auto [key, grid] : {std::pair{"speeds_mps", &grids.speeds_mps},
+                             std::pair{"accels_mps2", &grids.accels_mps2}}) {
+      if (prefix.empty() || !body.contains(key)) continue;
+      const Json& v = body[key];
+      if (!v.is_array() || v.size() > 64 ||
+          !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); })) {
+        return error_response(422, std::string("/") + key + " must be an array of at most 64 numbers");
+      }
+      *grid = v.get<std::vector<double>>();
+    }
+    auto ticket = ticket_for(request);
+    std::optional<Result<FailureMap>> map;
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    auto refusal = pool_.run(*ticket, [&](Analyzer& a) { map = a.failure_map(config, grids); });
+    if (refusal) return refusal_response(*refusal, *ticket);
+    if (!*map) return core_failure(map->diagnostics, prefix);
+    pool_.count_simulations((*map)->sims);
+    Json out = failure_map_to_json(**map);
+    out["pallet_id"] = config.pallet_id;
+    return json_response(200, out);
+  });
+  post("/v1/uncertainty", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    const Json& body = std::get<Json>(parsed);
+    if (!body.is_object() || !body.contains("pallet") || !body.contains("profile")) {
+      return error_response(422, "the body must be {\"pallet\": PalletConfig, \"profile\": "
+                                 "ConveyorProfile, \"samples\"?: M, \"seed\"?: S}");
+    }
+    auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    auto profile = profile_from_json(body["profile"], "/profile");
+    if (!profile) return diagnostics_response(422, profile.diagnostics);
+    const Diagnostics bad_profile = validate_profile(*profile, "/profile");
+    if (has_errors(bad_profile)) return diagnostics_response(422, bad_profile);
+    auto samples = number_member(body, "samples", 32, 1, options_.max_uncertainty_samples);
+    if (holds_response(samples)) return std::get<Response>(samples);
+    auto seed = number_member(body, "seed", 0, 0, 9007199254740991.0);
+    if (holds_response(seed)) return std::get<Response>(seed);
+    UncertaintyOptions uo;
+    uo.samples = int(std::get<double>(samples));
+    uo.seed = std::uint64_t(std::get<double>(seed));
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    std::optional<Result<UncertaintyResult>> result;
+    Diagnostics refused;
+    auto ticket = ticket_for(request);
+    auto refusal = pool_.run(*ticket, [&](Analyzer& a) {
+      auto prepared = a.prepare(config);
+      if (!prepared) {
+        refused = prepared.diagnostics;
+        return;
+      }
+      const PreparedPallet& p = **prepared.value;
+      if (p.rest.cannot_stand) {
+        refused = {{"/items/" + std::to_string(p.rest.cannot_stand->item),
+                    p.rest.cannot_stand->sentence, Severity::error}};
+        return;
+      }
+      result = failure_probability(*p.scene, p.rest, {*profile}, uo, a.options().sim);
+    });
+    if (refusal) return refusal_response(*refusal, *ticket);
+    if (!result) return core_failure(refused, "/pallet");
+    if (!*result) return core_failure(result->diagnostics, "");
+    const UncertaintyResult& u = **result;
+    pool_.count_simulations(u.sims);
+    Json modes = Json::object();
+    for (const auto& [mode, n] : u.modes) modes[std::string(to_string(mode))] = n;
+    return json_response(200, {{"samples", u.samples},
+                               {"failures", u.failures},
+                               {"unstable", u.unstable},
+                               {"p_fail", u.p_fail},
+                               {"ci95", {u.ci_low, u.ci_high}},
+                               {"modes", modes},
+                               {"sims", u.sims},
+                               {"wall_ms", u.wall_ms},
+                               {"profile", profile_to_json(*profile)}});
+  });
+  post("/v1/replay", [this, max_items, ticket_for](const Request& request, const Params&) {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    const Json& body = std::get<Json>(parsed);
+    std::string prefix;
+    auto pallet = read_pallet(pallet_member(body, prefix), prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    std::optional<Axis> wanted;
+    if (!prefix.empty() && body.contains("axis")) {
+      const Json& a = body["axis"];
+      for (Axis axis : {Axis::accel, Axis::decel, Axis::lateral, Axis::speed}) {
+        if (a.is_string() && a.get<std::string>() == to_string(axis)) wanted = axis;
+      }
+      if (!wanted) {
+        return error_response(422, "/axis must be accel, decel, lateral or speed",
+                              {{"/axis", "must be accel, decel, lateral or speed", Severity::error}});
+      }
+    }
+    auto hz = number_member(prefix.empty() ? Json::object() : body, "hz", 30.0, 1.0, 1000.0);
+    if (holds_response(hz)) return std::get<Response>(hz);
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    auto ticket = ticket_for(request);
+    auto analysis = pool_.analyze(*ticket, config);
+    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
+    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
+    const Envelope& env = std::get<Analysis>(analysis).cached->envelope;
+    const AnalyzerOptions& o = pool_.options().analyzer;
+    if (env.result.dominant_failure_mode == FailureMode::cannot_stand) {
+      return json_response(200, {{"replay", nullptr}, {"reason", env.result.reason}});
+    }
+    // The axis asked for, or the tightest: the lowest limit for its place in its range.
+    const auto axes = axes_of(env, o.search);
+    const AxisChoice* choice = nullptr;
+    for (const auto& c : axes) {
+      if (wanted && c.axis != *wanted) continue;
+      if (!wanted && c.limit->at_ceiling) continue;
+      const double place = (c.limit->limit - c.lo) / (c.hi - c.lo);
+      if (!choice || place < (choice->limit->limit - choice->lo) / (choice->hi - choice->lo)) {
+        choice = &c;
+      }
+    }
+    if (!choice || choice->limit->at_ceiling) {
+      return json_response(200, {{"replay", nullptr},
+                                 {"reason", "nothing fails within the search ranges; no probe "
+                                            "failed to replay"}});
+    }
+    // The failing probe just above the limit, or (a derived axis has no probes) one step above.
+    double value = choice->limit->at_floor ? choice->lo : choice->limit->limit + choice->precision;
+    bool probed = false;
+    for (const auto& p : env.probes) {
+      if (p.axis != choice->axis || p.outcome != Outcome::failed) continue;
+      if (p.value > choice->limit->limit - 1e-12 && (!probed || p.value < value)) {
+        value = p.value;
+        probed = true;
+      }
+    }
+    const ConveyorProfile profile = probe_profile(choice->axis, value, o.line, o.search);
+    std::optional<Result<Solve>> run;
+    auto refusal = pool_.run(*ticket, [&](Analyzer& a) {
+      run = a.solve(config, profile, std::get<double>(hz));
+    });
+    if (refusal) return refusal_response(*refusal, *ticket);
+    if (!*run) return core_failure(run->diagnostics, prefix);
+    pool_.count_simulations(1);
+    Json out = sim_result_to_json((*run)->sim, profile);
+    out["axis"] = to_string(choice->axis);
+    out["value"] = value;
+    out["limit"] = choice->limit->limit;
+    out["probed"] = probed;
+    out["replay"] = replay_to_json((*run)->replay);
+    return json_response(200, out);
+  });
+}
+
+std::vector<std::string> Service::routes() const {
+  std::vector<std::string> out;
+  for (const auto& r : routes_) out.push_back(r.method + " " + r.pattern);
+  return out;
+}
+
+namespace {
+
+std::vector<std::string> segments(const std::string& path) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < path.size()) {
+    if (path[i] == '/') {
+      ++i;
+      continue;
+    }
+    const std::size_t j = path.find('/', i);
+    out.push_back(path.substr(i, j == std::string::npos ? std::string::npos : j - i));
+    i = j == std::string::npos ? path.size() : j;
+  }
+  return out;
+}
+
+bool match(const std::string& pattern, const std::string& path, Params& params) {
+  const auto p = segments(pattern), s = segments(path);
+  if (p.size() != s.size()) return false;
+  Params found;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p[i].size() > 2 && p[i].front() == '{' && p[i].back() == '}') {
+      found[p[i].substr(1, p[i].size() - 2)] = s[i];
+    } else if (p[i] != s[i]) {
+      return false;
+    }
+  }
+  params = std::move(found);
+  return true;
+}
+
+}  // namespace
+
+Response Service::dispatch(const Request& request, std::string& route) {
+  std::vector<std::string> allowed;
+  for (const auto& r : routes_) {
+    Params params;
+    if (!match(r.pattern, request.path, params)) continue;
+    if (r.method != request.method) {
+      allowed.push_back(r.method);
+      continue;
+    }
+    route = r.pattern;
+    return r.handler(request, params);
+  }
+  if (!allowed.empty()) {
+    std::string list;
+    for (const auto& m : allowed) list += (list.empty() ? "" : ", ") + m;
+    Response r = error_response(405, request.method + " is not allowed on " + request.path +
+                                         "; use " + list);
+    r.headers["Allow"] = list;
+    return r;
+  }
+  return error_response(404, "no route " + request.path + "; GET / lists the routes");
+}
+
+Response Service::handle(const Request& request) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string route;
+  Response response;
+  try {
+    response = dispatch(request, route);
+  } catch (const std::exception& e) {
+    response = error_response(500, std::string("internal error: ") + e.what());
+  } catch (...) {
+    response = error_response(500, "internal error");
+  }
+  response.route = route;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  metrics_.observe(request.method, route.empty() ? "unmatched" : route, response.status, seconds);
+  return response;
+}
+
+}  // namespace pb::server
