@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   # core: physics, linear algebra, JSON (libqhull-dev: mujocoConfig.cmake names /usr/include/libqhull_r)
   libmujoco-dev libqhull-dev libeigen3-dev nlohmann-json3-dev
+  # the service: HTTP/1.1 (cpp-httplib) and its command line (CLI11)
+  libcpp-httplib-dev libcli11-dev
   # console: Qt 6 Widgets, Test, Charts, OpenGL widgets
   qt6-base-dev qt6-base-dev-tools qt6-charts-dev libqt6opengl6-dev libgl-dev
   # headless GUI tests: a real X server with Mesa's software OpenGL (llvmpipe)

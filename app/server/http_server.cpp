@@ -72,6 +72,7 @@ bool peer_connected(int fd) {
 
 struct HttpServer::Impl {
   httplib::Server server;
+  int listen_socket = -1;  ///< the listening socket, seen as cpp-httplib creates it
 };
 
 HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_unique<Impl>()) {
@@ -81,6 +82,13 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
       options.threads > 0 ? options.threads : pool.analyzers + pool.max_waiting + 4;
   s.new_task_queue = [threads] { return new httplib::ThreadPool(std::size_t(threads)); };
   s.set_payload_max_length(service.options().max_body_bytes);
+  // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, which would let a second instance
+  // bind the same port silently and take half its connections.
+  s.set_socket_options([this](int sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    impl_->listen_socket = sock;
+  });
   s.set_keep_alive_timeout(options.keep_alive_s);
   s.set_read_timeout(30, 0);
   s.set_write_timeout(30, 0);
@@ -160,13 +168,14 @@ bool HttpServer::bind(std::string& error) {
       error = "cannot listen on " + host_ + ": no free port";
       return false;
     }
-    return true;
-  }
-  if (!s.bind_to_port(host_, port_)) {
+  } else if (!s.bind_to_port(host_, port_)) {
     error = "cannot listen on " + host_ + ":" + std::to_string(port_) +
             " (in use, or not an address of this machine); choose another --port or --host";
     return false;
   }
+  // cpp-httplib listens with a backlog of 5: a burst of clients connecting at once would see
+  // connections dropped. Listening again on the same socket only raises the backlog.
+  if (impl_->listen_socket >= 0) ::listen(impl_->listen_socket, SOMAXCONN);
   return true;
 }
 

@@ -554,7 +554,8 @@ Service::Service(ServiceOptions options)
       auto pallet = read_pallet(body[i], "/" + std::to_string(i), max_items);
       if (auto* r = std::get_if<Response>(&pallet)) {
         if (r->status == 413) return *r;
-        for (const auto& e : Json::parse(r->body)["errors"]) {
+        const Json refused = Json::parse(r->body);
+        for (const auto& e : refused["errors"]) {
           problems.push_back({e["pointer"], e["message"], Severity::error});
         }
         continue;

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: MIT
+// palletballet-server over real HTTP, route by route: the reference system's calls from its post
+// answered in its shapes, ours under /v1/, and every kind of bad request refused with a status and
+// a sentence that names what to change.
+#include <QtTest>
+
+#include "core/analyzer.hpp"
+#include "core/json_io.hpp"
+#include "core/scenario.hpp"
+#include "tests/server/server_runner.hpp"
+
+using pb::test::body_of;
+using pb::test::Json;
+using pb::test::ServerProcess;
+
+namespace {
+
+const char* kJson = "application/json";
+
+std::string pallet_of(httplib::Client& c, const std::string& slug) {
+  return body_of(c.Get(("/scenarios/" + slug).c_str()))["pallet"].dump();
+}
+
+}  // namespace
+
+class ServiceRoutesTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() {
+    server_ = std::make_unique<ServerProcess>(QStringList{"--max-body", "200000"});
+    QVERIFY2(server_->port() > 0, "the server did not start");
+    client_ = server_->client();
+  }
+  void cleanupTestCase() {
+    client_.reset();
+    server_.reset();
+  }
+
+  void index_health_and_metrics() {
+    const Json index = body_of(client_->Get("/"));
+    QVERIFY(index["routes"].size() >= 20);
+    const Json health = body_of(client_->Get("/healthz"));
+    QCOMPARE(health["status"], "ok");
+    QCOMPARE(health["analyzers"].get<int>(), 2);
+    auto metrics = client_->Get("/metrics");
+    QVERIFY(metrics && metrics->status == 200);
+    QVERIFY(metrics->get_header_value("Content-Type").starts_with("text/plain"));
+    QVERIFY(metrics->body.find("palletballet_requests_total{method=\"GET\",route=\"/healthz\","
+                               "status=\"200\"}") != std::string::npos);
+    QVERIFY(metrics->body.find("palletballet_request_duration_seconds_bucket") != std::string::npos);
+    QVERIFY(metrics->body.find("palletballet_queue_depth 0") != std::string::npos);
+  }
+
+  // The post: curl -s .../scenarios | jq -r '.[].slug'; .../scenarios/tall-unwrapped-tower | jq .pallet
+  void scenarios() {
+    const Json list = body_of(client_->Get("/scenarios"));
+    QCOMPARE(list.size(), pb::scenario_slugs().size());
+    QCOMPARE(list[0]["slug"], "stable-dairy-slab");
+    for (const char* key : {"name", "tag", "description", "expected_failure", "item_count",
+                            "total_mass_kg", "stack_height_m"}) {
+      QVERIFY2(list[0].contains(key), key);
+    }
+    const Json tower = body_of(client_->Get("/scenarios/tall-unwrapped-tower"));
+    QVERIFY(tower["pallet"]["items"].is_array());
+    QVERIFY(tower.contains("suggested_profile"));
+    auto missing = client_->Get("/scenarios/no-such-pallet");
+    QCOMPARE(missing->status, 404);
+    QVERIFY(body_of(missing)["detail"].get<std::string>().find("stable-dairy-slab") !=
+            std::string::npos);
+  }
+
+  void catalog_and_friction() {
+    const Json skus = body_of(client_->Get("/catalog/skus"));
+    QVERIFY(skus.size() > 10);
+    const std::string sku = skus[0]["sku"];
+    QCOMPARE(body_of(client_->Get(("/catalog/skus/" + sku).c_str()))["sku"], sku);
+    QCOMPARE(client_->Get("/catalog/skus/NOPE")->status, 404);
+    const Json pairs = body_of(client_->Get("/friction/pairs"));
+    QVERIFY(std::find(pairs.begin(), pairs.end(), "wood_pallet/rubber_belt") != pairs.end());
+    const Json curve = body_of(client_->Get("/friction/curve?pair=wood_pallet/rubber_belt&n=5"));
+    QCOMPARE(curve["points"].size(), 5u);
+    QCOMPARE(curve["surface_pair"][0], "wood_pallet");
+    QCOMPARE(curve["points"][0]["temp_c"].get<double>(), -30.0);
+    const Json point = body_of(client_->Get("/friction?temp_c=-20"));
+    QVERIFY(point["mu_static"].get<double>() >= point["mu_dynamic"].get<double>());
+    auto bad = client_->Get("/friction?temp_c=hot");
+    QCOMPARE(bad->status, 422);
+    QVERIFY(body_of(bad)["detail"].get<std::string>().find("temp_c") != std::string::npos);
+    QCOMPARE(client_->Get("/friction/curve?pair=ice/ice")->status, 422);
+  }
+
+  // The post: POST /pallet/random {"seed": 23, "anomaly_rate": 0.25, "min_layers": 2, ...}
+  void random_pallets_are_seeded() {
+    const std::string req = R"({"seed": 23, "anomaly_rate": 0.25, "min_layers": 2, "max_layers": 5})";
+    auto a = client_->Post("/pallet/random", req, kJson);
+    auto b = client_->Post("/pallet/random", req, kJson);
+    QCOMPARE(a->status, 200);
+    QCOMPARE(a->body, b->body);
+    const Json pallet = body_of(a);
+    QVERIFY(pallet["items"].size() > 0);
+    auto bad = client_->Post("/pallet/random", R"({"min_layers": 5, "max_layers": 2})", kJson);
+    QCOMPARE(bad->status, 422);
+    QVERIFY(!body_of(bad)["errors"].empty());
+    QCOMPARE(client_->Post("/pallet/random", R"({"wrap": "cling"})", kJson)->status, 422);
+    QCOMPARE(client_->Post("/pallet/random", "", kJson)->status, 200);  // every default
+  }
+
+  void validate_and_mjcf() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    QCOMPARE(client_->Post("/pallet/validate", pallet, kJson)->status, 200);
+    Json broken = Json::parse(pallet);
+    broken["items"][0]["dims_m"][2] = -0.1;
+    auto refused = client_->Post("/pallet/validate", broken.dump(), kJson);
+    QCOMPARE(refused->status, 422);
+    QCOMPARE(body_of(refused)["errors"][0]["pointer"], "/items/0/dims_m/2");
+    const Json report = body_of(client_->Post("/v1/validate", broken.dump(), kJson));
+    QCOMPARE(report["valid"], false);
+    const Json mjcf = body_of(client_->Post("/mjcf/build", pallet, kJson));
+    QVERIFY(mjcf["mjcf_xml"].get<std::string>().starts_with("<mujoco"));
+    QCOMPARE(mjcf["bytes"].get<std::size_t>(), mjcf["mjcf_xml"].get<std::string>().size());
+  }
+
+  // The post: POST /solve {pallet: tower, profile: 2.0 m/s, 6.0 m/s^2, 1.5 s, include_replay}
+  // -> failure {"mode": "top_item_slide", "time_s": 0.242}.
+  void solve_as_the_post_shows() {
+    const std::string pallet = pallet_of(*client_, "tall-unwrapped-tower");
+    const std::string req =
+        R"({"pallet": )" + pallet +
+        R"(, "profile": {"target_speed_mps": 2.0, "accel_mps2": 6.0, "duration_s": 1.5},
+            "include_replay": true})";
+    auto res = client_->Post("/solve", req, kJson);
+    QCOMPARE(res->status, 200);
+    const Json s = body_of(res);
+    QCOMPARE(s["failure"]["mode"], "top_item_slide");
+    QVERIFY(s["failure"]["time_s"].get<double>() > 0.1 && s["failure"]["time_s"].get<double>() < 0.5);
+    const Json& r = s["replay"];
+    const std::size_t frames = r["times_s"].size();
+    QVERIFY(frames > 5);
+    for (const char* key : {"belt_disp_m", "pallet_pos_m", "pallet_quat_wxyz", "item_pos_m",
+                            "item_quat_wxyz"}) {
+      QCOMPARE(r[key].size(), frames);
+    }
+    QCOMPARE(r["items"].size(), Json::parse(pallet)["items"].size());
+    QCOMPARE(r["item_pos_m"][0].size(), r["items"].size());
+    QCOMPARE(r["pallet_quat_wxyz"][0].size(), 4u);
+    QCOMPARE(s["trace"]["times_s"].size(), frames);
+    // Without include_replay: no replay, the same verdict.
+    Json plain = Json::parse(req);
+    plain["include_replay"] = false;
+    const Json p = body_of(client_->Post("/solve", plain.dump(), kJson));
+    QVERIFY(p["replay"].is_null());
+    QCOMPARE(p["failure"], s["failure"]);
+    // Thresholds other than the service's are refused, not ignored.
+    plain["thresholds"] = {{"tip_angle_deg", 20.0}};
+    QCOMPARE(client_->Post("/solve", plain.dump(), kJson)->status, 422);
+    plain.erase("thresholds");
+    plain["profile"]["accel_mps2"] = 50.0;
+    auto bad = client_->Post("/solve", plain.dump(), kJson);
+    QCOMPARE(bad->status, 422);
+    QCOMPARE(body_of(bad)["errors"][0]["pointer"], "/profile/accel_mps2");
+  }
+
+  // The post: POST /safety/analyze (a pallet) | jq .result; POST /safety/batch [P, P] ->
+  // sims_run [n, 0]. The answer is the core's, as an Analyzer in this process gives it.
+  void analyze_and_batch_share_the_cache() {
+    const std::string pallet = pallet_of(*client_, "top-heavy-surprise");
+    auto res = client_->Post("/safety/analyze", pallet, kJson);
+    QCOMPARE(res->status, 200);
+    const Json a = body_of(res);
+    for (const char* key : {"result", "sims_run", "cache_hits", "sweep_points"}) QVERIFY(a.contains(key));
+    QVERIFY(a["sims_run"].get<int>() > 0);
+    QCOMPARE(a["cache_hits"].get<int>(), 0);
+    pb::Analyzer analyzer;
+    const auto scenario = pb::load_scenario("top-heavy-surprise");
+    auto direct = analyzer.analyze(scenario->pallet);
+    QVERIFY(direct.ok());
+    QCOMPARE(a["result"]["max_accel_mps2"].get<double>(), direct->max_accel_mps2);
+    QCOMPARE(a["result"]["max_decel_mps2"].get<double>(), direct->max_decel_mps2);
+    QCOMPARE(a["result"]["max_lateral_g"].get<double>(), direct->max_lateral_g);
+    QCOMPARE(a["result"]["max_speed_mps"].get<double>(), direct->max_speed_mps);
+    QCOMPARE(a["result"]["dominant_failure_mode"].get<std::string>(),
+             std::string(pb::to_string(direct->dominant_failure_mode)));
+    const Json batch = body_of(client_->Post("/safety/batch", "[" + pallet + "," + pallet + "]", kJson));
+    QCOMPARE(batch.size(), 2u);
+    QCOMPARE(batch[0]["sims_run"].get<int>(), 0);  // analysed above: cached
+    QCOMPARE(batch[1]["cache_hits"].get<int>(), 1);
+    QCOMPARE(batch[0]["result"]["max_accel_mps2"], a["result"]["max_accel_mps2"]);
+    QCOMPARE(batch[0]["sweep_points"], a["sweep_points"]);
+    // One invalid pallet refuses the batch, pointing into the list.
+    Json broken = Json::parse(pallet);
+    broken["items"][0]["weight_kg"] = -1;
+    auto refused = client_->Post("/safety/batch", "[" + pallet + "," + broken.dump() + "]", kJson);
+    QCOMPARE(refused->status, 422);
+    QCOMPARE(body_of(refused)["errors"][0]["pointer"], "/1/items/0/weight_kg");
+  }
+
+  void ours_under_v1() {
+    const std::string pallet = pallet_of(*client_, "top-heavy-surprise");
+    const Json a = body_of(client_->Post("/v1/analyze", pallet, kJson));
+    for (const char* axis : {"accel", "decel", "lateral", "speed"}) QVERIFY(a["axes"].contains(axis));
+    QVERIFY(!a["probes"].empty());
+    QVERIFY(!a["explain"]["reason"].get<std::string>().empty());
+    QVERIFY(a["explain"]["compared_with"].get<std::string>().find("table") != std::string::npos);
+    QCOMPARE(body_of(client_->Post("/v1/explain", pallet, kJson))["grade"], a["explain"]["grade"]);
+    // The replay of the failing probe of the tightest axis: a failure just above its limit.
+    const Json r = body_of(client_->Post("/v1/replay", pallet, kJson));
+    QCOMPARE(r["outcome"], "failed");
+    QVERIFY(r["value"].get<double>() > r["limit"].get<double>());
+    QVERIFY(r["replay"]["frames"].size() > 2);
+    const Json lateral =
+        body_of(client_->Post("/v1/replay", R"({"axis": "lateral", "pallet": )" + pallet + "}", kJson));
+    QCOMPARE(lateral["axis"], "lateral");
+    QCOMPARE(client_->Post("/v1/replay", R"({"axis": "up", "pallet": )" + pallet + "}", kJson)->status,
+             422);
+    // A small map, the uncertainty at an operating point, a solve in our replay format.
+    const Json map = body_of(client_->Post(
+        "/v1/map", R"({"speeds_mps": [0.5, 1.5], "accels_mps2": [1, 4], "pallet": )" + pallet + "}",
+        kJson));
+    QCOMPARE(map["cells"].size(), 2u);
+    QCOMPARE(map["cells"][0].size(), 2u);
+    const std::string op = R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1, "duration_s": 2},
+                               "samples": 4, "pallet": )" + pallet + "}";
+    const Json u = body_of(client_->Post("/v1/uncertainty", op, kJson));
+    QCOMPARE(u["samples"].get<int>(), 4);
+    QVERIFY(u["p_fail"].get<double>() >= 0.0 && u["p_fail"].get<double>() <= 1.0);
+    const Json s = body_of(client_->Post(
+        "/v1/solve", R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "pallet": )" + pallet + "}",
+        kJson));
+    QVERIFY(s["replay"]["frames"].is_array());
+    QVERIFY(s.contains("fidelity"));
+  }
+
+  void a_load_that_cannot_stand_is_refused_with_the_item_named() {
+    Json pallet = Json::parse(pallet_of(*client_, "tall-unwrapped-tower"));
+    // The top carton pushed most of the way off what carries it: validation refuses it (422).
+    const std::size_t top = pallet["items"].size() - 1;
+    pallet["items"][top]["position"][0] = pallet["items"][top]["position"][0].get<double>() + 0.25;
+    auto res = client_->Post("/safety/analyze", pallet.dump(), kJson);
+    QCOMPARE(res->status, 422);
+    QVERIFY(body_of(res)["errors"][0]["pointer"].get<std::string>().starts_with("/items/"));
+  }
+
+  void bad_requests() {
+    auto not_json = client_->Post("/safety/analyze", "{pallet", kJson);
+    QCOMPARE(not_json->status, 400);
+    QVERIFY(body_of(not_json)["detail"].get<std::string>().find("not valid JSON") != std::string::npos);
+    QCOMPARE(client_->Post("/safety/analyze", "", kJson)->status, 400);
+    QCOMPARE(client_->Post("/safety/analyze", "[1, 2]", kJson)->status, 422);
+    QCOMPARE(client_->Post("/safety/analyze", "42", kJson)->status, 422);
+    QCOMPARE(client_->Post("/safety/batch", "{}", kJson)->status, 422);
+    // Deep nesting is read without recursion and refused as a pallet.
+    QCOMPARE(client_->Post("/safety/analyze", std::string(20000, '[') + std::string(20000, ']'), kJson)
+                 ->status,
+             422);
+    // Over the body limit (--max-body 200000): 413 with the limit named.
+    auto big = client_->Post("/safety/analyze", std::string(300000, ' '), kJson);
+    QCOMPARE(big->status, 413);
+    QVERIFY(body_of(big)["detail"].get<std::string>().find("200000") != std::string::npos);
+    // Over the item limit: 413 before any work.
+    Json pallet = Json::parse(pallet_of(*client_, "stable-dairy-slab"));
+    Json many = Json::array();
+    for (int i = 0; i < 401; ++i) many.push_back(pallet["items"][0]);
+    pallet["items"] = many;
+    auto crowded = client_->Post("/safety/analyze", pallet.dump(), kJson);
+    QCOMPARE(crowded->status, 413);
+    QVERIFY(body_of(crowded)["detail"].get<std::string>().find("400") != std::string::npos);
+    QCOMPARE(client_->Get("/no/such/route")->status, 404);
+    auto wrong_method = client_->Get("/safety/analyze");
+    QCOMPARE(wrong_method->status, 405);
+    QCOMPARE(wrong_method->get_header_value("Allow"), "POST");
+    QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
+  }
+
+  void cors_follows_the_allowlist() {
+    httplib::Headers allowed{{"Origin", "https://boothe.io"}};
+    auto yes = client_->Get("/healthz", allowed);
+    QCOMPARE(yes->get_header_value("Access-Control-Allow-Origin"), "https://boothe.io");
+    httplib::Headers other{{"Origin", "https://evil.example"}};
+    QVERIFY(!client_->Get("/healthz", other)->has_header("Access-Control-Allow-Origin"));
+    auto preflight = client_->Options("/safety/analyze", allowed);
+    QCOMPARE(preflight->status, 204);
+    QVERIFY(preflight->get_header_value("Access-Control-Allow-Methods").find("POST") !=
+            std::string::npos);
+  }
+
+ private:
+  std::unique_ptr<ServerProcess> server_;
+  std::unique_ptr<httplib::Client> client_;
+};
+
+QTEST_APPLESS_MAIN(ServiceRoutesTest)
+#include "service_routes_test.moc"
