@@ -34,6 +34,39 @@ Distribution distribution_of(std::vector<double> v) {
   return d;
 }
 
+void summarise(BatchStudy& study) {
+  study.analysed = study.errors = study.cache_hits = study.rejects = study.sims = 0;
+  study.dominant_modes.clear();
+  study.speed_governed_by.clear();
+  study.reject_modes.clear();
+  std::vector<double> speed, accel, decel, lateral;
+  for (const StudyEntry& e : study.pallets) {
+    if (!e.result) {
+      ++study.errors;
+      continue;
+    }
+    ++study.analysed;
+    if (e.cached) ++study.cache_hits;
+    const SafetyResult& r = *e.result;
+    study.sims += r.sims_run;
+    ++study.dominant_modes[std::string(to_string(r.dominant_failure_mode))];
+    ++study.speed_governed_by[r.speed_governed_by];
+    if (r.verdict == "reject") {
+      ++study.rejects;
+      ++study.reject_modes[std::string(to_string(r.dominant_failure_mode))];
+      continue;
+    }
+    speed.push_back(r.max_speed_mps);
+    accel.push_back(r.max_accel_mps2);
+    decel.push_back(r.max_decel_mps2);
+    lateral.push_back(r.max_lateral_g);
+  }
+  study.max_speed_mps = distribution_of(speed);
+  study.max_accel_mps2 = distribution_of(accel);
+  study.max_decel_mps2 = distribution_of(decel);
+  study.max_lateral_g = distribution_of(lateral);
+}
+
 Result<BatchStudy> run_batch_study(const BatchStudyOptions& o, const Catalog& catalog,
                                    const FrictionModel& friction) {
   using Out = Result<BatchStudy>;
@@ -116,32 +149,7 @@ Result<BatchStudy> run_batch_study(const BatchStudyOptions& o, const Catalog& ca
   work();
   for (auto& t : pool) t.join();
 
-  std::vector<double> speed, accel, decel, lateral;
-  for (const StudyEntry& e : study.pallets) {
-    if (!e.result) {
-      ++study.errors;
-      continue;
-    }
-    ++study.analysed;
-    if (e.cached) ++study.cache_hits;
-    const SafetyResult& r = *e.result;
-    study.sims += r.sims_run;
-    ++study.dominant_modes[std::string(to_string(r.dominant_failure_mode))];
-    ++study.speed_governed_by[r.speed_governed_by];
-    if (r.verdict == "reject") {
-      ++study.rejects;
-      ++study.reject_modes[std::string(to_string(r.dominant_failure_mode))];
-      continue;
-    }
-    speed.push_back(r.max_speed_mps);
-    accel.push_back(r.max_accel_mps2);
-    decel.push_back(r.max_decel_mps2);
-    lateral.push_back(r.max_lateral_g);
-  }
-  study.max_speed_mps = distribution_of(speed);
-  study.max_accel_mps2 = distribution_of(accel);
-  study.max_decel_mps2 = distribution_of(decel);
-  study.max_lateral_g = distribution_of(lateral);
+  summarise(study);
   study.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   study.pallets_per_s = study.wall_s > 0.0 ? n / study.wall_s : 0.0;
   return Out{std::move(study), {}};

@@ -59,6 +59,10 @@ struct BatchStudy {
   std::map<std::string, int> reject_modes;  ///< why rejected pallets are rejected
 };
 
+/// Recomputes the counts, modes and distributions of `study` from its pallets (the wall time,
+/// threads and rate are left as they are): how shards of one study are joined.
+void summarise(BatchStudy& study);
+
 /// Runs the study. Fails only on bad options (naming the field); a pallet that cannot be analysed
 /// is an entry with its error.
 Result<BatchStudy> run_batch_study(const BatchStudyOptions& options,

@@ -191,7 +191,8 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   }
   if (error) {
     mj_resetData(m, d);
-    if (is_cancelled(o.cancel)) return Result<RestState>::failure("", std::string(kCancelledReason));
+    if (is_cancelled(o.cancel))
+      return Result<RestState>::failure("", std::string(kCancelledReason));
     return Result<RestState>::failure(
         "", "the load could not be settled on a still belt: " + *error +
                 "; the layout or the numerical settings are at fault, not the conveyor");

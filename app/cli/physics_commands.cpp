@@ -74,7 +74,6 @@ std::ofstream open_output(const std::string& verb, const std::string& path) {
   return out;
 }
 
-
 Json messages_json(const Diagnostics& diagnostics) {
   Json out = Json::array();
   for (const auto& d : errors_of(diagnostics)) out.push_back(to_string(d));
@@ -150,7 +149,6 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
   }
   return p;
 }
-
 
 // --fidelity: which model answers (core/fidelity.hpp); automatic when absent.
 Fidelity fidelity_option(const Args& args, const std::string& verb) {
@@ -228,7 +226,6 @@ AnalyzerOptions analyze_options(const Args& args) {
   o.fidelity = fidelity_option(args, "analyze");
   return o;
 }
-
 
 struct FileAnalysis {
   Json entry;

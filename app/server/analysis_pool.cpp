@@ -108,14 +108,12 @@ std::optional<Refusal> AnalysisPool::run(Ticket& ticket, const Work& work) {
     if (waiting_ >= options_.max_waiting) {
       ++counters_.rejected_busy;
       return Refusal{Refusal::busy, "the service is busy: " + std::to_string(slots_.size()) +
-                                        " analyses are running and " +
-                                        std::to_string(waiting_) +
+                                        " analyses are running and " + std::to_string(waiting_) +
                                         " are waiting, the most it queues; retry later"};
     }
     ++waiting_;
-    freed_.wait(lock, [&] {
-      return free_slot() != slots_.end() || ticket.stopped() || shutting_down_;
-    });
+    freed_.wait(lock,
+                [&] { return free_slot() != slots_.end() || ticket.stopped() || shutting_down_; });
     --waiting_;
   }
   if (ticket.stopped() || shutting_down_) {

@@ -51,6 +51,7 @@ Row drive(int port, const std::string& mode, int clients, const std::vector<std:
       httplib::Client client("127.0.0.1", port);
       client.set_read_timeout(600, 0);
       client.set_keep_alive(true);
+      client.set_tcp_nodelay(true);
       for (std::size_t i = std::size_t(c); i < bodies.size(); i += std::size_t(clients)) {
         const auto t0 = std::chrono::steady_clock::now();
         auto res = client.Post("/safety/analyze", bodies[i], "application/json");
@@ -67,8 +68,7 @@ Row drive(int port, const std::string& mode, int clients, const std::vector<std:
     });
   }
   for (auto& t : threads) t.join();
-  row.wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<double> all;
   for (const auto& l : latency) all.insert(all.end(), l.begin(), l.end());
   row.p50_ms = percentile(all, 0.50);
@@ -149,8 +149,8 @@ int run_bench(const ServiceOptions& service_options, const BenchOptions& options
   } else {
     std::printf("analyzers %d, uncached pallets: random, 2-4 layers, wrap %s\n",
                 service_options.pool.analyzers, options.wrap.c_str());
-    std::printf("%-9s %7s %8s %6s %9s %9s %9s %9s %6s\n", "mode", "clients", "requests",
-                "errors", "req/s", "p50_ms", "p99_ms", "max_ms", "sims");
+    std::printf("%-9s %7s %8s %6s %9s %9s %9s %9s %6s\n", "mode", "clients", "requests", "errors",
+                "req/s", "p50_ms", "p99_ms", "max_ms", "sims");
     for (const auto& r : rows) {
       std::printf("%-9s %7d %8d %6d %9.1f %9.1f %9.1f %9.1f %6ld\n", r.mode.c_str(), r.clients,
                   r.requests, r.errors, r.requests / r.wall_s, r.p50_ms, r.p99_ms, r.max_ms,

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "app/server/http_server.hpp"
 
+#include <arpa/inet.h>
 #include <httplib.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
-#include <netinet/in.h>
-#include <arpa/inet.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -78,8 +78,7 @@ struct HttpServer::Impl {
 HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_unique<Impl>()) {
   httplib::Server& s = impl_->server;
   const PoolOptions& pool = service.options().pool;
-  const int threads =
-      options.threads > 0 ? options.threads : pool.analyzers + pool.max_waiting + 4;
+  const int threads = options.threads > 0 ? options.threads : pool.analyzers + pool.max_waiting + 4;
   s.new_task_queue = [threads] { return new httplib::ThreadPool(std::size_t(threads)); };
   s.set_payload_max_length(service.options().max_body_bytes);
   // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, which would let a second instance
@@ -90,6 +89,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     impl_->listen_socket = sock;
   });
   s.set_keep_alive_timeout(options.keep_alive_s);
+  s.set_tcp_nodelay(true);  // a response written in two parts must not wait for an ACK
   s.set_read_timeout(30, 0);
   s.set_write_timeout(30, 0);
   const std::vector<std::string> origins = options.cors_origins;
@@ -143,8 +143,9 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
                " bytes (--max-body); send a smaller document";
       // cpp-httplib parses a form body itself and caps it at 8 KiB, whatever our limit.
       if (req.get_header_value("Content-Type").starts_with("application/x-www-form-urlencoded")) {
-        detail = "the body was sent as application/x-www-form-urlencoded, which is read only up "
-                 "to 8192 bytes; send JSON with the header content-type: application/json";
+        detail =
+            "the body was sent as application/x-www-form-urlencoded, which is read only up "
+            "to 8192 bytes; send JSON with the header content-type: application/json";
       }
     }
     nlohmann::json body = {{"detail", detail}, {"errors", nlohmann::json::array()}};
@@ -179,8 +180,12 @@ bool HttpServer::bind(std::string& error) {
   return true;
 }
 
-void HttpServer::listen() { impl_->server.listen_after_bind(); }
+void HttpServer::listen() {
+  impl_->server.listen_after_bind();
+}
 
-void HttpServer::stop() { impl_->server.stop(); }
+void HttpServer::stop() {
+  impl_->server.stop();
+}
 
 }  // namespace pb::server

@@ -2,9 +2,9 @@
 // palletballet-server: the physics core over HTTP for line controllers, warehouse systems and
 // scanner stations. `palletballet-server --help` lists the flags; `palletballet-server bench`
 // measures the service's throughput and latency (app/server/bench.cpp).
-#include <CLI/CLI.hpp>
 #include <pthread.h>
 #include <signal.h>
+#include <CLI/CLI.hpp>
 
 #include <iostream>
 #include <sstream>
@@ -41,8 +41,9 @@ int main(int argc, char** argv) {
   BenchOptions bench;
   std::string bench_clients = "1,2,8";
 
-  CLI::App app{"palletballet-server: conveyor-motion limits for pallets, over HTTP/JSON (the "
-               "reference system's API, and ours under /v1/). GET / lists the routes."};
+  CLI::App app{
+      "palletballet-server: conveyor-motion limits for pallets, over HTTP/JSON (the "
+      "reference system's API, and ours under /v1/). GET / lists the routes."};
   app.set_version_flag("--version", std::string(PB_VERSION));
   app.add_option("--host", http.host, "address to listen on")->capture_default_str();
   app.add_option("--port", http.port, "port to listen on (0: any free port, printed)")
@@ -56,8 +57,7 @@ int main(int argc, char** argv) {
                  "requests that may wait for an analyzer; beyond it: 503 with Retry-After")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  app.add_option("--threads", http.threads,
-                 "connection threads (0: analyzers + max-waiting + 4)")
+  app.add_option("--threads", http.threads, "connection threads (0: analyzers + max-waiting + 4)")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   app.add_option("--max-body", service.max_body_bytes, "largest request body, bytes (413 above)")
@@ -90,16 +90,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Throughput and latency of the service on this machine: an in-process server on a "
-               "free port, driven over HTTP by 1, 2 and 8 concurrent clients; analyses of cached "
-               "and of distinct (uncached) random pallets. Prints a table (or --json).");
+      "bench",
+      "Throughput and latency of the service on this machine: an in-process server on a "
+      "free port, driven over HTTP by 1, 2 and 8 concurrent clients; analyses of cached "
+      "and of distinct (uncached) random pallets. Prints a table (or --json).");
   bench_cmd->add_option("--clients", bench_clients, "concurrent clients, comma-separated")
       ->capture_default_str();
   bench_cmd->add_option("--requests", bench.requests, "requests per row")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
-  bench_cmd->add_option("--wrap", bench.wrap,
-                        "the uncached pallets' wrap: stretch (fast) or none (multi-body)")
+  bench_cmd
+      ->add_option("--wrap", bench.wrap,
+                   "the uncached pallets' wrap: stretch (fast) or none (multi-body)")
       ->check(CLI::IsMember({"none", "shrink", "stretch", "banded"}))
       ->capture_default_str();
   bench_cmd->add_flag("--json", bench.json, "print JSON instead of the table");

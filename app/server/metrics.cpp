@@ -60,8 +60,8 @@ std::string Metrics::text(const PoolStats& pool) const {
     out << "# HELP " << name << " " << help << "\n# TYPE " << name << " " << type << "\n"
         << name << " " << value << "\n";
   };
-  metric("palletballet_simulations_total", "counter",
-         "Simulations run by the service's analyses.", pool.simulations);
+  metric("palletballet_simulations_total", "counter", "Simulations run by the service's analyses.",
+         pool.simulations);
   metric("palletballet_cache_hits_total", "counter",
          "Analyses answered from the shared envelope cache.", pool.cache_hits);
   metric("palletballet_cache_misses_total", "counter", "Analyses that had to be computed.",

@@ -55,8 +55,12 @@ Json analyze_response_json(const Analysis& analysis) {
 
 namespace {
 
-Json vec3(const Vec3& v) { return Json::array({v[0], v[1], v[2]}); }
-Json quat(const Quat& q) { return Json::array({q[0], q[1], q[2], q[3]}); }
+Json vec3(const Vec3& v) {
+  return Json::array({v[0], v[1], v[2]});
+}
+Json quat(const Quat& q) {
+  return Json::array({q[0], q[1], q[2], q[3]});
+}
 
 // The trace frame at or just before `t` (the trace's times increase).
 std::size_t frame_at_or_before(const Trace& trace, double t) {

@@ -106,7 +106,8 @@ using Read = std::variant<Json, Response>;
 
 Read parse_body(const Request& request) {
   if (request.body.empty()) {
-    return error_response(400, "the request has no body; send JSON (content-type: application/json)");
+    return error_response(400,
+                          "the request has no body; send JSON (content-type: application/json)");
   }
   auto json = parse_json(request.body);
   if (!json) return diagnostics_response(400, json.diagnostics);
@@ -125,17 +126,19 @@ const Json& pallet_member(const Json& body, std::string& prefix) {
 
 /// A valid pallet from `json` (read at `prefix`), or the response that says why not: 413 over the
 /// item limit (before any work), 422 with every error otherwise. Warnings come with the pallet.
-std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json, const std::string& prefix,
+std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
+                                                         const std::string& prefix,
                                                          std::size_t max_items) {
   if (!json.is_object()) {
-    return error_response(422, (prefix.empty() ? "the body" : prefix) +
-                                   " must be a PalletConfig JSON object",
-                          {{prefix, "must be a PalletConfig JSON object", Severity::error}});
+    return error_response(
+        422, (prefix.empty() ? "the body" : prefix) + " must be a PalletConfig JSON object",
+        {{prefix, "must be a PalletConfig JSON object", Severity::error}});
   }
   if (auto it = json.find("items"); it != json.end() && it->is_array() && it->size() > max_items) {
     return error_response(
-        413, "the pallet has " + std::to_string(it->size()) + " items; this service analyses at most " +
-                 std::to_string(max_items) + " (--max-items); split the load or ask for a larger limit",
+        413,
+        "the pallet has " + std::to_string(it->size()) + " items; this service analyses at most " +
+            std::to_string(max_items) + " (--max-items); split the load or ask for a larger limit",
         {{prefix + "/items", "at most " + std::to_string(max_items) + " items", Severity::error}});
   }
   auto pallet = pallet_from_json(json, prefix);
@@ -155,7 +158,8 @@ std::variant<double, Response> number_member(const Json& body, const std::string
   if (!body.is_object() || !body.contains(key) || body[key].is_null()) return fallback;
   const Json& v = body[key];
   if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
-    const std::string what = "must be a number from " + short_number(lo) + " to " + short_number(hi);
+    const std::string what =
+        "must be a number from " + short_number(lo) + " to " + short_number(hi);
     return error_response(422, "/" + key + " " + what, {{"/" + key, what, Severity::error}});
   }
   return v.get<double>();
@@ -193,12 +197,8 @@ std::string known_pairs() {
 // ---- the service's own answers ----
 
 Json axis_json(const AxisLimit& a) {
-  return {{"limit", a.limit},
-          {"mode", to_string(a.mode)},
-          {"at_ceiling", a.at_ceiling},
-          {"at_floor", a.at_floor},
-          {"closed_form", a.closed_form},
-          {"probes", a.probes},
+  return {{"limit", a.limit},       {"mode", to_string(a.mode)},    {"at_ceiling", a.at_ceiling},
+          {"at_floor", a.at_floor}, {"closed_form", a.closed_form}, {"probes", a.probes},
           {"derived", a.derived}};
 }
 
@@ -208,9 +208,8 @@ Json explain_json(const SafetyResult& result) {
           {"label", g.label},
           {"advice", g.advice},
           {"reason", result.reason},
-          {"compared_with",
-           "the fixed table the line runs today: " + short_number(kTableSpeedMps) + " m/s, start-up " +
-               short_number(kTableAccelMps2) + " m/s^2"}};
+          {"compared_with", "the fixed table the line runs today: " + short_number(kTableSpeedMps) +
+                                " m/s, start-up " + short_number(kTableAccelMps2) + " m/s^2"}};
 }
 
 struct AxisChoice {
@@ -229,10 +228,14 @@ std::vector<AxisChoice> axes_of(const Envelope& env, const SearchConfig& s) {
 ConveyorProfile probe_profile(Axis axis, double value, const LineDescription& line,
                               const SearchConfig& s) {
   switch (axis) {
-    case Axis::accel: return accel_probe_profile(value, s);
-    case Axis::decel: return decel_probe_profile(value, s.speed_max_mps, s);
-    case Axis::lateral: return lateral_probe_profile(value, line, s);
-    case Axis::speed: return stop_probe_profile(value, line, s);
+    case Axis::accel:
+      return accel_probe_profile(value, s);
+    case Axis::decel:
+      return decel_probe_profile(value, s.speed_max_mps, s);
+    case Axis::lateral:
+      return lateral_probe_profile(value, line, s);
+    case Axis::speed:
+      return stop_probe_profile(value, line, s);
   }
   return {};
 }
@@ -241,14 +244,12 @@ ConveyorProfile probe_profile(Axis axis, double value, const LineDescription& li
 
 // ---- the routes ----
 
-Service::Service(ServiceOptions options)
-    : options_(std::move(options)), pool_(options_.pool) {
+Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(options_.pool) {
   const std::size_t max_items = options_.max_items;
   auto ticket_for = [this](const Request& request) {
-    return std::make_unique<Ticket>(
-        std::chrono::duration_cast<Ticket::Clock::duration>(
-            std::chrono::duration<double>(options_.time_limit_s)),
-        request.client_alive);
+    return std::make_unique<Ticket>(std::chrono::duration_cast<Ticket::Clock::duration>(
+                                        std::chrono::duration<double>(options_.time_limit_s)),
+                                    request.client_alive);
   };
   const AnalyzerOptions& ao = options_.pool.analyzer;
 
@@ -262,9 +263,8 @@ Service::Service(ServiceOptions options)
   get("/", [this](const Request&, const Params&) {
     Json list = Json::array();
     for (const auto& r : routes_) list.push_back(r.method + " " + r.pattern);
-    return json_response(200, {{"service", "palletballet-server"},
-                               {"version", options_.version},
-                               {"routes", list}});
+    return json_response(
+        200, {{"service", "palletballet-server"}, {"version", options_.version}, {"routes", list}});
   });
   get("/healthz", [this](const Request&, const Params&) {
     const PoolStats s = pool_.stats();
@@ -301,8 +301,9 @@ Service::Service(ServiceOptions options)
   get("/catalog/skus/{sku}", [](const Request&, const Params& p) {
     const SkuTemplate* t = Catalog::builtin().find(p.at("sku"));
     if (t == nullptr) {
-      return error_response(404, "no SKU '" + p.at("sku") + "' in the catalog; GET /catalog/skus "
-                                 "lists them");
+      return error_response(404, "no SKU '" + p.at("sku") +
+                                     "' in the catalog; GET /catalog/skus "
+                                     "lists them");
     }
     return json_response(200, sku_info_json(*t));
   });
@@ -310,8 +311,8 @@ Service::Service(ServiceOptions options)
     auto it = request.query.find("pair");
     const std::string pair = it == request.query.end() ? "wood_pallet/rubber_belt" : it->second;
     if (FrictionModel::builtin().find(pair) == nullptr) {
-      return error_response(422, "the query parameter 'pair' is '" + pair +
-                                     "'; use one of " + known_pairs());
+      return error_response(
+          422, "the query parameter 'pair' is '" + pair + "'; use one of " + known_pairs());
     }
     return pair;
   };
@@ -325,9 +326,8 @@ Service::Service(ServiceOptions options)
     if (holds_response(t)) return std::get<Response>(t);
     auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
     if (holds_response(since)) return std::get<Response>(since);
-    const auto value = FrictionModel::builtin().effective(std::get<std::string>(pair),
-                                                          std::get<double>(t),
-                                                          std::get<double>(since));
+    const auto value = FrictionModel::builtin().effective(
+        std::get<std::string>(pair), std::get<double>(t), std::get<double>(since));
     return json_response(200, friction_point_json(std::get<double>(t), *value));
   });
   get("/friction/curve", [pair_param](const Request& request, const Params&) {
@@ -371,10 +371,10 @@ Service::Service(ServiceOptions options)
       if (!body.contains(key) || body[key].is_null()) return;
       const Json& v = body[key];
       if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi) {
-        problems.push_back({std::string("/") + key,
-                            "must be a whole number from " + std::to_string(lo) + " to " +
-                                std::to_string(hi),
-                            Severity::error});
+        problems.push_back(
+            {std::string("/") + key,
+             "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi),
+             Severity::error});
         return;
       }
       field = static_cast<std::remove_reference_t<decltype(field)>>(v.get<std::int64_t>());
@@ -401,8 +401,8 @@ Service::Service(ServiceOptions options)
       if (w.is_string() && w.get<std::string>() == "mixed") {
         o.wrap = std::nullopt;
       } else if (!wrap) {
-        problems.push_back({"/wrap", "must be " + enum_choices<WrapType>() + " or mixed",
-                            Severity::error});
+        problems.push_back(
+            {"/wrap", "must be " + enum_choices<WrapType>() + " or mixed", Severity::error});
       } else {
         o.wrap = *wrap;
       }
@@ -434,8 +434,8 @@ Service::Service(ServiceOptions options)
     const Response& r = std::get<Response>(pallet);
     if (r.status != 422) return r;
     const Json refused = Json::parse(r.body);
-    return json_response(200, {{"valid", false}, {"errors", refused["errors"]},
-                               {"warnings", Json::array()}});
+    return json_response(
+        200, {{"valid", false}, {"errors", refused["errors"]}, {"warnings", Json::array()}});
   });
   post("/mjcf/build", [max_items](const Request& request, const Params&) {
     auto body = parse_body(request);
@@ -446,11 +446,12 @@ Service::Service(ServiceOptions options)
     Json out;
     if (auto it = request.query.find("surface_pair"); it != request.query.end()) {
       if (FrictionModel::builtin().find(it->second) == nullptr) {
-        return error_response(422, "surface_pair is '" + it->second + "'; use one of " +
-                                       known_pairs());
+        return error_response(422,
+                              "surface_pair is '" + it->second + "'; use one of " + known_pairs());
       }
-      out["note"] = "surface_pair is not used: each contact's friction pair follows from the "
-                    "pallet (its base type, the items' material and temperature)";
+      out["note"] =
+          "surface_pair is not used: each contact's friction pair follows from the "
+          "pallet (its base type, the items' material and temperature)";
     }
     auto scene = build_scene(config);
     if (!scene) return core_failure(scene.diagnostics, "");
@@ -466,8 +467,9 @@ Service::Service(ServiceOptions options)
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
     if (!body.is_object() || !body.contains("pallet")) {
-      return error_response(422, "the body must be {\"pallet\": PalletConfig, \"profile\": "
-                                 "ConveyorProfile, ...}",
+      return error_response(422,
+                            "the body must be {\"pallet\": PalletConfig, \"profile\": "
+                            "ConveyorProfile, ...}",
                             {{"/pallet", "is required", Severity::error}});
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
@@ -490,16 +492,16 @@ Service::Service(ServiceOptions options)
                         t.value("pallet_slip_m", ours.pallet_slip_m) == ours.pallet_slip_m;
       if (!same) {
         return error_response(
-            422, "/thresholds: this service detects failures at its own thresholds (tip " +
-                     short_number(ours.tip_deg) + " deg, item slide " +
-                     short_number(ours.item_slide_m) + " m, load shift " +
-                     short_number(ours.load_shift_m) + " m, pallet slip " +
-                     short_number(ours.pallet_slip_m) + " m); remove the field or send those",
+            422,
+            "/thresholds: this service detects failures at its own thresholds (tip " +
+                short_number(ours.tip_deg) + " deg, item slide " + short_number(ours.item_slide_m) +
+                " m, load shift " + short_number(ours.load_shift_m) + " m, pallet slip " +
+                short_number(ours.pallet_slip_m) + " m); remove the field or send those",
             {{"/thresholds", "differs from the service's detector thresholds", Severity::error}});
       }
     }
-    auto hz = number_member(body, reference ? "output_hz" : "hz", reference ? 50.0 : 30.0, 1.0,
-                            1000.0);
+    auto hz =
+        number_member(body, reference ? "output_hz" : "hz", reference ? 50.0 : 30.0, 1.0, 1000.0);
     if (holds_response(hz)) return std::get<Response>(hz);
     const bool include_replay = !reference || body.value("include_replay", false);
     auto ticket = ticket_for(request);
@@ -515,7 +517,8 @@ Service::Service(ServiceOptions options)
     if (!*run) return core_failure(run->diagnostics, "/pallet");
     pool_.count_simulations(1);
     const Solve& s = **run;
-    if (reference) return json_response(200, solve_response_json(config, s, include_replay, fidelity));
+    if (reference)
+      return json_response(200, solve_response_json(config, s, include_replay, fidelity));
     Json out = sim_result_to_json(s.sim, profile);
     out["fidelity"] = fidelity;
     out["replay"] = replay_to_json(s.replay);
@@ -633,7 +636,8 @@ Service::Service(ServiceOptions options)
       const Json& v = body[key];
       if (!v.is_array() || v.size() > 64 ||
           !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); })) {
-        return error_response(422, std::string("/") + key + " must be an array of at most 64 numbers");
+        return error_response(422,
+                              std::string("/") + key + " must be an array of at most 64 numbers");
       }
       *grid = v.get<std::vector<double>>();
     }
@@ -653,8 +657,9 @@ Service::Service(ServiceOptions options)
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
     if (!body.is_object() || !body.contains("pallet") || !body.contains("profile")) {
-      return error_response(422, "the body must be {\"pallet\": PalletConfig, \"profile\": "
-                                 "ConveyorProfile, \"samples\"?: M, \"seed\"?: S}");
+      return error_response(422,
+                            "the body must be {\"pallet\": PalletConfig, \"profile\": "
+                            "ConveyorProfile, \"samples\"?: M, \"seed\"?: S}");
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
     if (holds_response(pallet)) return std::get<Response>(pallet);
@@ -718,8 +723,9 @@ Service::Service(ServiceOptions options)
         if (a.is_string() && a.get<std::string>() == to_string(axis)) wanted = axis;
       }
       if (!wanted) {
-        return error_response(422, "/axis must be accel, decel, lateral or speed",
-                              {{"/axis", "must be accel, decel, lateral or speed", Severity::error}});
+        return error_response(
+            422, "/axis must be accel, decel, lateral or speed",
+            {{"/axis", "must be accel, decel, lateral or speed", Severity::error}});
       }
     }
     auto hz = number_member(prefix.empty() ? Json::object() : body, "hz", 30.0, 1.0, 1000.0);
@@ -747,8 +753,9 @@ Service::Service(ServiceOptions options)
     }
     if (!choice || choice->limit->at_ceiling) {
       return json_response(200, {{"replay", nullptr},
-                                 {"reason", "nothing fails within the search ranges; no probe "
-                                            "failed to replay"}});
+                                 {"reason",
+                                  "nothing fails within the search ranges; no probe "
+                                  "failed to replay"}});
     }
     // The failing probe just above the limit, or (a derived axis has no probes) one step above.
     double value = choice->limit->at_floor ? choice->lo : choice->limit->limit + choice->precision;
@@ -762,9 +769,8 @@ Service::Service(ServiceOptions options)
     }
     const ConveyorProfile profile = probe_profile(choice->axis, value, o.line, o.search);
     std::optional<Result<Solve>> run;
-    auto refusal = pool_.run(*ticket, [&](Analyzer& a) {
-      run = a.solve(config, profile, std::get<double>(hz));
-    });
+    auto refusal = pool_.run(
+        *ticket, [&](Analyzer& a) { run = a.solve(config, profile, std::get<double>(hz)); });
     if (refusal) return refusal_response(*refusal, *ticket);
     if (!*run) return core_failure(run->diagnostics, prefix);
     pool_.count_simulations(1);
@@ -833,8 +839,8 @@ Response Service::dispatch(const Request& request, std::string& route) {
   if (!allowed.empty()) {
     std::string list;
     for (const auto& m : allowed) list += (list.empty() ? "" : ", ") + m;
-    Response r = error_response(405, request.method + " is not allowed on " + request.path +
-                                         "; use " + list);
+    Response r = error_response(
+        405, request.method + " is not allowed on " + request.path + "; use " + list);
     r.headers["Allow"] = list;
     return r;
   }

@@ -83,6 +83,47 @@ class MapBatchCliTest : public QObject {
     QCOMPARE(modes, summary.value("analysed").toInt());
   }
 
+  // Shards of a study, run apart and merged, give the study one run gives: the same pallets in
+  // seed order with the same results, and the same summary.
+  void batchShardsMergeIntoTheWholeStudy() {
+    QTemporaryDir dir;
+    QStringList files;
+    for (int i = 0; i < 3; ++i) {
+      files << dir.filePath(QStringLiteral("s%1.json").arg(i));
+      Run r = cli({"batch", "--n", "5", "--seed", "3", "--shard", QStringLiteral("%1/3").arg(i),
+                   "--out", files.back()});
+      QVERIFY2(r.exit_code == 0, r.err.constData());
+      QCOMPARE(r.json().object().value("shard").toString(), QStringLiteral("%1/3").arg(i));
+    }
+    Run whole = cli({"batch", "--n", "5", "--seed", "3"});
+    QVERIFY2(whole.exit_code == 0, whole.err.constData());
+    Run merged = cli(QStringList{"batch", "--merge"} + QStringList{files[2], files[0], files[1]});
+    QVERIFY2(merged.exit_code == 0, merged.err.constData());
+    const QJsonObject w = whole.json().object(), m = merged.json().object();
+    QCOMPARE(m.value("shards").toInt(), 3);
+    const QJsonArray wp = w.value("pallets").toArray(), mp = m.value("pallets").toArray();
+    QCOMPARE(mp.size(), 5);
+    for (int i = 0; i < 5; ++i) {
+      QJsonObject a = wp.at(i).toObject().value("result").toObject();
+      QJsonObject b = mp.at(i).toObject().value("result").toObject();
+      QCOMPARE(mp.at(i).toObject().value("seed").toInt(), 3 + i);
+      a.remove("sim_runtime_ms");
+      b.remove("sim_runtime_ms");
+      QCOMPARE(a, b);
+    }
+    for (const char* key : {"n", "seed", "analysed", "errors", "rejects", "dominant_modes",
+                            "speed_governed_by", "limits", "sims_run"}) {
+      QVERIFY2(w.value(key) == m.value(key), key);
+    }
+    // A shard given twice, or a shard that is not a study, is refused.
+    Run twice = cli({"batch", "--merge", files[0], files[0]});
+    QCOMPARE(twice.exit_code, 2);
+    QVERIFY(twice.err.contains("in both"));
+    Run bad = cli({"batch", "--n", "4", "--shard", "4/4"});
+    QCOMPARE(bad.exit_code, 2);
+    QVERIFY(bad.err.contains("--shard"));
+  }
+
   void batchBadOptionsAreExit2() {
     Run r = cli({QStringLiteral("batch"), QStringLiteral("--n"), QStringLiteral("0")});
     QCOMPARE(r.exit_code, 2);

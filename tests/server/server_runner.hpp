@@ -51,6 +51,7 @@ class ServerProcess {
     auto c = std::make_unique<httplib::Client>("127.0.0.1", port_);
     c->set_read_timeout(read_timeout_ms / 1000, (read_timeout_ms % 1000) * 1000);
     c->set_connection_timeout(5, 0);
+    c->set_tcp_nodelay(true);
     return c;
   }
 

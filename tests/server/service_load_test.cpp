@@ -60,8 +60,8 @@ class ServiceLoadTest : public QObject {
     for (int i = 0; i < 50; ++i) {
       clients.emplace_back([&, i] {
         auto c = server.client();
-        auto res = c->Post("/safety/analyze", pb::pallet_to_json(pallets[std::size_t(i % 5)]).dump(),
-                           kJson);
+        auto res = c->Post("/safety/analyze",
+                           pb::pallet_to_json(pallets[std::size_t(i % 5)]).dump(), kJson);
         status[std::size_t(i)] = res ? res->status : -100 - int(res.error());
         answers[std::size_t(i)] = body_of(res);
       });

@@ -48,11 +48,13 @@ class ServiceRoutesTest : public QObject {
     QVERIFY(metrics->get_header_value("Content-Type").starts_with("text/plain"));
     QVERIFY(metrics->body.find("palletballet_requests_total{method=\"GET\",route=\"/healthz\","
                                "status=\"200\"}") != std::string::npos);
-    QVERIFY(metrics->body.find("palletballet_request_duration_seconds_bucket") != std::string::npos);
+    QVERIFY(metrics->body.find("palletballet_request_duration_seconds_bucket") !=
+            std::string::npos);
     QVERIFY(metrics->body.find("palletballet_queue_depth 0") != std::string::npos);
   }
 
-  // The post: curl -s .../scenarios | jq -r '.[].slug'; .../scenarios/tall-unwrapped-tower | jq .pallet
+  // The post: curl -s .../scenarios | jq -r '.[].slug'; .../scenarios/tall-unwrapped-tower | jq
+  // .pallet
   void scenarios() {
     const Json list = body_of(client_->Get("/scenarios"));
     QCOMPARE(list.size(), pb::scenario_slugs().size());
@@ -92,7 +94,8 @@ class ServiceRoutesTest : public QObject {
 
   // The post: POST /pallet/random {"seed": 23, "anomaly_rate": 0.25, "min_layers": 2, ...}
   void random_pallets_are_seeded() {
-    const std::string req = R"({"seed": 23, "anomaly_rate": 0.25, "min_layers": 2, "max_layers": 5})";
+    const std::string req =
+        R"({"seed": 23, "anomaly_rate": 0.25, "min_layers": 2, "max_layers": 5})";
     auto a = client_->Post("/pallet/random", req, kJson);
     auto b = client_->Post("/pallet/random", req, kJson);
     QCOMPARE(a->status, 200);
@@ -133,12 +136,13 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(res->status, 200);
     const Json s = body_of(res);
     QCOMPARE(s["failure"]["mode"], "top_item_slide");
-    QVERIFY(s["failure"]["time_s"].get<double>() > 0.1 && s["failure"]["time_s"].get<double>() < 0.5);
+    QVERIFY(s["failure"]["time_s"].get<double>() > 0.1 &&
+            s["failure"]["time_s"].get<double>() < 0.5);
     const Json& r = s["replay"];
     const std::size_t frames = r["times_s"].size();
     QVERIFY(frames > 5);
-    for (const char* key : {"belt_disp_m", "pallet_pos_m", "pallet_quat_wxyz", "item_pos_m",
-                            "item_quat_wxyz"}) {
+    for (const char* key :
+         {"belt_disp_m", "pallet_pos_m", "pallet_quat_wxyz", "item_pos_m", "item_quat_wxyz"}) {
       QCOMPARE(r[key].size(), frames);
     }
     QCOMPARE(r["items"].size(), Json::parse(pallet)["items"].size());
@@ -168,7 +172,8 @@ class ServiceRoutesTest : public QObject {
     auto res = client_->Post("/safety/analyze", pallet, kJson);
     QCOMPARE(res->status, 200);
     const Json a = body_of(res);
-    for (const char* key : {"result", "sims_run", "cache_hits", "sweep_points"}) QVERIFY(a.contains(key));
+    for (const char* key : {"result", "sims_run", "cache_hits", "sweep_points"})
+      QVERIFY(a.contains(key));
     QVERIFY(a["sims_run"].get<int>() > 0);
     QCOMPARE(a["cache_hits"].get<int>(), 0);
     pb::Analyzer analyzer;
@@ -181,7 +186,8 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(a["result"]["max_speed_mps"].get<double>(), direct->max_speed_mps);
     QCOMPARE(a["result"]["dominant_failure_mode"].get<std::string>(),
              std::string(pb::to_string(direct->dominant_failure_mode)));
-    const Json batch = body_of(client_->Post("/safety/batch", "[" + pallet + "," + pallet + "]", kJson));
+    const Json batch =
+        body_of(client_->Post("/safety/batch", "[" + pallet + "," + pallet + "]", kJson));
     QCOMPARE(batch.size(), 2u);
     QCOMPARE(batch[0]["sims_run"].get<int>(), 0);  // analysed above: cached
     QCOMPARE(batch[1]["cache_hits"].get<int>(), 1);
@@ -198,7 +204,8 @@ class ServiceRoutesTest : public QObject {
   void ours_under_v1() {
     const std::string pallet = pallet_of(*client_, "top-heavy-surprise");
     const Json a = body_of(client_->Post("/v1/analyze", pallet, kJson));
-    for (const char* axis : {"accel", "decel", "lateral", "speed"}) QVERIFY(a["axes"].contains(axis));
+    for (const char* axis : {"accel", "decel", "lateral", "speed"})
+      QVERIFY(a["axes"].contains(axis));
     QVERIFY(!a["probes"].empty());
     QVERIFY(!a["explain"]["reason"].get<std::string>().empty());
     QVERIFY(a["explain"]["compared_with"].get<std::string>().find("table") != std::string::npos);
@@ -208,11 +215,12 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(r["outcome"], "failed");
     QVERIFY(r["value"].get<double>() > r["limit"].get<double>());
     QVERIFY(r["replay"]["frames"].size() > 2);
-    const Json lateral =
-        body_of(client_->Post("/v1/replay", R"({"axis": "lateral", "pallet": )" + pallet + "}", kJson));
+    const Json lateral = body_of(
+        client_->Post("/v1/replay", R"({"axis": "lateral", "pallet": )" + pallet + "}", kJson));
     QCOMPARE(lateral["axis"], "lateral");
-    QCOMPARE(client_->Post("/v1/replay", R"({"axis": "up", "pallet": )" + pallet + "}", kJson)->status,
-             422);
+    QCOMPARE(
+        client_->Post("/v1/replay", R"({"axis": "up", "pallet": )" + pallet + "}", kJson)->status,
+        422);
     // A small map, the uncertainty at an operating point, a solve in our replay format.
     const Json map = body_of(client_->Post(
         "/v1/map", R"({"speeds_mps": [0.5, 1.5], "accels_mps2": [1, 4], "pallet": )" + pallet + "}",
@@ -220,12 +228,14 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(map["cells"].size(), 2u);
     QCOMPARE(map["cells"][0].size(), 2u);
     const std::string op = R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1, "duration_s": 2},
-                               "samples": 4, "pallet": )" + pallet + "}";
+                               "samples": 4, "pallet": )" +
+                           pallet + "}";
     const Json u = body_of(client_->Post("/v1/uncertainty", op, kJson));
     QCOMPARE(u["samples"].get<int>(), 4);
     QVERIFY(u["p_fail"].get<double>() >= 0.0 && u["p_fail"].get<double>() <= 1.0);
     const Json s = body_of(client_->Post(
-        "/v1/solve", R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "pallet": )" + pallet + "}",
+        "/v1/solve",
+        R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "pallet": )" + pallet + "}",
         kJson));
     QVERIFY(s["replay"]["frames"].is_array());
     QVERIFY(s.contains("fidelity"));
@@ -244,15 +254,17 @@ class ServiceRoutesTest : public QObject {
   void bad_requests() {
     auto not_json = client_->Post("/safety/analyze", "{pallet", kJson);
     QCOMPARE(not_json->status, 400);
-    QVERIFY(body_of(not_json)["detail"].get<std::string>().find("not valid JSON") != std::string::npos);
+    QVERIFY(body_of(not_json)["detail"].get<std::string>().find("not valid JSON") !=
+            std::string::npos);
     QCOMPARE(client_->Post("/safety/analyze", "", kJson)->status, 400);
     QCOMPARE(client_->Post("/safety/analyze", "[1, 2]", kJson)->status, 422);
     QCOMPARE(client_->Post("/safety/analyze", "42", kJson)->status, 422);
     QCOMPARE(client_->Post("/safety/batch", "{}", kJson)->status, 422);
     // Deep nesting is read without recursion and refused as a pallet.
-    QCOMPARE(client_->Post("/safety/analyze", std::string(20000, '[') + std::string(20000, ']'), kJson)
-                 ->status,
-             422);
+    QCOMPARE(
+        client_->Post("/safety/analyze", std::string(20000, '[') + std::string(20000, ']'), kJson)
+            ->status,
+        422);
     // Over the body limit (--max-body 200000): 413 with the limit named.
     auto big = client_->Post("/safety/analyze", std::string(300000, ' '), kJson);
     QCOMPARE(big->status, 413);
