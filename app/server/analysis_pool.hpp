@@ -84,7 +84,7 @@ struct PoolOptions {
   std::size_t max_cached_envelopes = 4096;  ///< the oldest is dropped beyond this
   /// An Analyzer keeps every pallet it prepared (scene, data, rest state: megabytes each); it
   /// forgets them all once it holds more than this.
-  int max_prepared_per_analyzer = 32;
+  int max_prepared_per_analyzer = 4;
 };
 
 /// Why a call gave no answer: the pool is full, or the ticket was stopped.

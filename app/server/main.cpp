@@ -77,6 +77,11 @@ int main(int argc, char** argv) {
                  "envelopes kept in the shared cache (the oldest is dropped)")
       ->check(CLI::Range(std::size_t(1), std::size_t(10000000)))
       ->capture_default_str();
+  app.add_option("--keep-prepared", service.pool.max_prepared_per_analyzer,
+                 "compiled and settled pallets each analyzer keeps for a following solve or "
+                 "replay (each is megabytes; hundreds for a large unwrapped load)")
+      ->check(CLI::Range(0, 10000))
+      ->capture_default_str();
   app.add_option("--cors-origins", cors,
                  "comma-separated origins browsers may call from (* for any; '' for none)")
       ->capture_default_str();
@@ -106,7 +111,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bench_cmd->add_flag("--json", bench.json, "print JSON instead of the table");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; a bad flag exits 2, as the CLI's usage errors do.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   http.cors_origins = split_list(cors);
 
   if (*bench_cmd) {

@@ -183,6 +183,16 @@ std::variant<double, Response> number_param(const Request& request, const std::s
   return v;
 }
 
+/// A boolean JSON member (absent or null: `fallback`); an error naming the member otherwise.
+std::variant<bool, Response> bool_member(const Json& body, const std::string& key, bool fallback) {
+  if (!body.is_object() || !body.contains(key) || body[key].is_null()) return fallback;
+  if (!body[key].is_boolean()) {
+    return error_response(422, "/" + key + " must be true or false",
+                          {{"/" + key, "must be true or false", Severity::error}});
+  }
+  return body[key].get<bool>();
+}
+
 template <class T>
 bool holds_response(const std::variant<T, Response>& v) {
   return std::holds_alternative<Response>(v);
@@ -486,10 +496,13 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (body.contains("thresholds") && !body["thresholds"].is_null()) {
       const Json& t = body["thresholds"];
       const DetectorThresholds& ours = ao.sim.thresholds;
-      const bool same = t.is_object() && t.value("tip_angle_deg", ours.tip_deg) == ours.tip_deg &&
-                        t.value("item_slide_m", ours.item_slide_m) == ours.item_slide_m &&
-                        t.value("load_shift_m", ours.load_shift_m) == ours.load_shift_m &&
-                        t.value("pallet_slip_m", ours.pallet_slip_m) == ours.pallet_slip_m;
+      auto agrees = [&t](const char* key, double value) {
+        return !t.contains(key) || (t[key].is_number() && t[key].get<double>() == value);
+      };
+      const bool same = t.is_object() && agrees("tip_angle_deg", ours.tip_deg) &&
+                        agrees("item_slide_m", ours.item_slide_m) &&
+                        agrees("load_shift_m", ours.load_shift_m) &&
+                        agrees("pallet_slip_m", ours.pallet_slip_m);
       if (!same) {
         return error_response(
             422,
@@ -503,7 +516,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto hz =
         number_member(body, reference ? "output_hz" : "hz", reference ? 50.0 : 30.0, 1.0, 1000.0);
     if (holds_response(hz)) return std::get<Response>(hz);
-    const bool include_replay = !reference || body.value("include_replay", false);
+    auto replay_wanted = bool_member(body, "include_replay", false);
+    if (holds_response(replay_wanted)) return std::get<Response>(replay_wanted);
+    const bool include_replay = !reference || std::get<bool>(replay_wanted);
     auto ticket = ticket_for(request);
     std::optional<Result<Solve>> run;
     std::string fidelity;

@@ -158,6 +158,40 @@ class AnalyzerTest : public QObject {
     QVERIFY(other->config_hash != first->config_hash);
   }
 
+  // A cancelled call ends without a verdict and caches nothing: the settle at its next check, a
+  // search or a map inside the probe it is stepping, a solve as an unstable run that says so.
+  // Cleared, the same analyzer then gives the answer a fresh one gives.
+  void aCancelledCallCachesNothing() {
+    CancelFlag cancel{true};
+    Analyzer analyzer({}, friction());
+    analyzer.set_cancel(&cancel);
+    const auto settled = analyzer.analyze(column());
+    QVERIFY(!settled);
+    QVERIFY2(describe(settled.diagnostics).find("cancelled") != std::string::npos,
+             describe(settled.diagnostics).c_str());
+    QCOMPARE(analyzer.cached_pallets(), std::size_t(0));
+
+    cancel = false;
+    QVERIFY(analyzer.prepare(column()));
+    cancel = true;
+    const auto searched = analyzer.analyze(column());
+    QVERIFY(!searched);
+    QVERIFY(describe(searched.diagnostics).find("cancelled") != std::string::npos);
+    const auto mapped = analyzer.failure_map(column(), {.speeds_mps = {1.0}, .accels_mps2 = {1.0}});
+    QVERIFY(!mapped || mapped->unstable_cells > 0);
+    const auto solved = analyzer.solve(column(), hard_start());
+    QVERIFY(solved);
+    QCOMPARE(solved->sim.outcome, Outcome::unstable);
+    QVERIFY(solved->sim.reason.starts_with(kCancelledReason));
+
+    cancel = false;
+    const auto answered = analyzer.analyze(column());
+    QVERIFY2(answered, describe(answered.diagnostics).c_str());
+    QVERIFY(answered->sims_run > 0);  // searched now: no result of the cancelled search was kept
+    Analyzer fresh({}, friction());
+    QVERIFY(without_runtime(*answered) == without_runtime(*fresh.analyze(column())));
+  }
+
   // A load that cannot stand is a build defect, not a conveyor limit: refused by validation; and
   // where the standing rule is off (to reach the simulation), found at rest on a still belt,
   // reported as a reject of its own mode with no limit, and never probed, mapped or solved.

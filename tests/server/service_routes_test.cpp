@@ -155,6 +155,9 @@ class ServiceRoutesTest : public QObject {
     const Json p = body_of(client_->Post("/solve", plain.dump(), kJson));
     QVERIFY(p["replay"].is_null());
     QCOMPARE(p["failure"], s["failure"]);
+    plain["include_replay"] = "yes";  // not a boolean: refused, not a 500
+    QCOMPARE(client_->Post("/solve", plain.dump(), kJson)->status, 422);
+    plain["include_replay"] = false;
     // Thresholds other than the service's are refused, not ignored.
     plain["thresholds"] = {{"tip_angle_deg", 20.0}};
     QCOMPARE(client_->Post("/solve", plain.dump(), kJson)->status, 422);
