@@ -3,7 +3,6 @@
 
 #include <charconv>
 #include <chrono>
-#include <cmath>
 #include <exception>
 #include <random>
 #include <variant>
@@ -11,7 +10,6 @@
 #include "app/server/reference_api.hpp"
 #include "core/catalog.hpp"
 #include "core/explain.hpp"
-#include "core/fingerprint.hpp"
 #include "core/friction.hpp"
 #include "core/json_io.hpp"
 #include "core/random_pallet.hpp"
@@ -262,6 +260,37 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                                     request.client_alive);
   };
   const AnalyzerOptions& ao = options_.pool.analyzer;
+
+  // The path every analysing route shares: the body read, its pallet (the body, or its "pallet")
+  // validated, then `check` on the body before any work, then the envelope from the pool.
+  struct Analysed {
+    Json body;
+    std::string prefix;  ///< where the pallet is in the body: "" or "/pallet"
+    Result<PalletConfig> config;
+    std::unique_ptr<Ticket> ticket;
+    Analysis analysis;
+  };
+  using Check = std::function<std::optional<Response>(const Json& body, bool wrapped)>;
+  auto analysed = [this, max_items, ticket_for](
+                      const Request& request,
+                      const Check& check) -> std::variant<Analysed, Response> {
+    auto parsed = parse_body(request);
+    if (holds_response(parsed)) return std::get<Response>(parsed);
+    Analysed a;
+    a.body = std::move(std::get<Json>(parsed));
+    auto pallet = read_pallet(pallet_member(a.body, a.prefix), a.prefix, max_items);
+    if (holds_response(pallet)) return std::get<Response>(pallet);
+    a.config = std::move(std::get<Result<PalletConfig>>(pallet));
+    if (check) {
+      if (auto refused = check(a.body, !a.prefix.empty())) return *refused;
+    }
+    a.ticket = ticket_for(request);
+    auto analysis = pool_.analyze(*a.ticket, *a.config);
+    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *a.ticket);
+    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, a.prefix);
+    a.analysis = std::move(std::get<Analysis>(analysis));
+    return a;
+  };
 
   auto get = [this](std::string pattern, auto handler) {
     routes_.push_back({"GET", std::move(pattern), handler});
@@ -542,18 +571,10 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   post("/solve", [solve](const Request& r, const Params&) { return solve(r, true); });
   post("/v1/solve", [solve](const Request& r, const Params&) { return solve(r, false); });
 
-  post("/safety/analyze", [this, max_items, ticket_for](const Request& request, const Params&) {
-    auto body = parse_body(request);
-    if (holds_response(body)) return std::get<Response>(body);
-    std::string prefix;
-    const Json& pj = pallet_member(std::get<Json>(body), prefix);
-    auto pallet = read_pallet(pj, prefix, max_items);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
-    auto ticket = ticket_for(request);
-    auto analysis = pool_.analyze(*ticket, *std::get<Result<PalletConfig>>(pallet));
-    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
-    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
-    return json_response(200, analyze_response_json(std::get<Analysis>(analysis)));
+  post("/safety/analyze", [analysed](const Request& request, const Params&) {
+    auto a = analysed(request, {});
+    if (auto* r = std::get_if<Response>(&a)) return *r;
+    return json_response(200, analyze_response_json(std::get<Analysed>(a).analysis));
   });
   post("/safety/batch", [this, max_items, ticket_for](const Request& request, const Params&) {
     auto parsed = parse_body(request);
@@ -596,46 +617,29 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   });
 
   // -- ours --
-  post("/v1/analyze", [this, max_items, ticket_for](const Request& request, const Params&) {
-    auto body = parse_body(request);
-    if (holds_response(body)) return std::get<Response>(body);
-    std::string prefix;
-    const Json& pj = pallet_member(std::get<Json>(body), prefix);
-    auto pallet = read_pallet(pj, prefix, max_items);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
-    const auto& config = std::get<Result<PalletConfig>>(pallet);
-    auto ticket = ticket_for(request);
-    auto analysis = pool_.analyze(*ticket, *config);
-    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
-    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
-    const Analysis& a = std::get<Analysis>(analysis);
-    const Envelope& env = a.cached->envelope;
-    Json reference = analyze_response_json(a);
+  post("/v1/analyze", [this, analysed](const Request& request, const Params&) {
+    auto result = analysed(request, {});
+    if (auto* r = std::get_if<Response>(&result)) return *r;
+    const Analysed& a = std::get<Analysed>(result);
+    const Envelope& env = a.analysis.cached->envelope;
     Json out;
-    out["result"] = reference["result"];
-    out["cached"] = a.cache_hit;
+    out["result"] = analyze_response_json(a.analysis)["result"];
+    out["cached"] = a.analysis.cache_hit;
     out["axes"] = {{"accel", axis_json(env.accel)},
                    {"decel", axis_json(env.decel)},
                    {"lateral", axis_json(env.lateral)},
                    {"speed", axis_json(env.speed)}};
     out["probes"] = probes_to_json(env.probes);
     out["explain"] = explain_json(env.result);
-    out["warnings"] = diagnostics_to_json(warnings_of(located(config.diagnostics, "")));
+    out["warnings"] = diagnostics_to_json(warnings_of(a.config.diagnostics));
     out["line"] = {{"estop_decel_mps2", pool_.options().analyzer.line.estop_decel_mps2},
                    {"curve_radius_m", pool_.options().analyzer.line.curve_radius_m}};
     return json_response(200, out);
   });
-  post("/v1/explain", [this, max_items, ticket_for](const Request& request, const Params&) {
-    auto body = parse_body(request);
-    if (holds_response(body)) return std::get<Response>(body);
-    std::string prefix;
-    auto pallet = read_pallet(pallet_member(std::get<Json>(body), prefix), prefix, max_items);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
-    auto ticket = ticket_for(request);
-    auto analysis = pool_.analyze(*ticket, *std::get<Result<PalletConfig>>(pallet));
-    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
-    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
-    return json_response(200, explain_json(std::get<Analysis>(analysis).cached->envelope.result));
+  post("/v1/explain", [analysed](const Request& request, const Params&) {
+    auto a = analysed(request, {});
+    if (auto* r = std::get_if<Response>(&a)) return *r;
+    return json_response(200, explain_json(std::get<Analysed>(a).analysis.cached->envelope.result));
   });
   post("/v1/map", [this, max_items, ticket_for](const Request& request, const Params&) {
     auto parsed = parse_body(request);
@@ -724,33 +728,34 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                                {"wall_ms", u.wall_ms},
                                {"profile", profile_to_json(*profile)}});
   });
-  post("/v1/replay", [this, max_items, ticket_for](const Request& request, const Params&) {
-    auto parsed = parse_body(request);
-    if (holds_response(parsed)) return std::get<Response>(parsed);
-    const Json& body = std::get<Json>(parsed);
-    std::string prefix;
-    auto pallet = read_pallet(pallet_member(body, prefix), prefix, max_items);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
+  post("/v1/replay", [this, analysed](const Request& request, const Params&) {
     std::optional<Axis> wanted;
-    if (!prefix.empty() && body.contains("axis")) {
-      const Json& a = body["axis"];
-      for (Axis axis : {Axis::accel, Axis::decel, Axis::lateral, Axis::speed}) {
-        if (a.is_string() && a.get<std::string>() == to_string(axis)) wanted = axis;
+    double hz = 30.0;
+    auto check = [&](const Json& body, bool wrapped) -> std::optional<Response> {
+      if (!wrapped) return std::nullopt;  // a bare pallet: every default
+      if (body.contains("axis")) {
+        const Json& a = body["axis"];
+        for (Axis axis : {Axis::accel, Axis::decel, Axis::lateral, Axis::speed}) {
+          if (a.is_string() && a.get<std::string>() == to_string(axis)) wanted = axis;
+        }
+        if (!wanted) {
+          return error_response(
+              422, "/axis must be accel, decel, lateral or speed",
+              {{"/axis", "must be accel, decel, lateral or speed", Severity::error}});
+        }
       }
-      if (!wanted) {
-        return error_response(
-            422, "/axis must be accel, decel, lateral or speed",
-            {{"/axis", "must be accel, decel, lateral or speed", Severity::error}});
-      }
-    }
-    auto hz = number_member(prefix.empty() ? Json::object() : body, "hz", 30.0, 1.0, 1000.0);
-    if (holds_response(hz)) return std::get<Response>(hz);
-    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
-    auto ticket = ticket_for(request);
-    auto analysis = pool_.analyze(*ticket, config);
-    if (auto* r = std::get_if<Refusal>(&analysis)) return refusal_response(*r, *ticket);
-    if (auto* d = std::get_if<Diagnostics>(&analysis)) return core_failure(*d, prefix);
-    const Envelope& env = std::get<Analysis>(analysis).cached->envelope;
+      auto rate = number_member(body, "hz", 30.0, 1.0, 1000.0);
+      if (holds_response(rate)) return std::get<Response>(rate);
+      hz = std::get<double>(rate);
+      return std::nullopt;
+    };
+    auto result = analysed(request, check);
+    if (auto* r = std::get_if<Response>(&result)) return *r;
+    Analysed& a = std::get<Analysed>(result);
+    const PalletConfig& config = *a.config;
+    const std::string& prefix = a.prefix;
+    Ticket& ticket = *a.ticket;
+    const Envelope& env = a.analysis.cached->envelope;
     const AnalyzerOptions& o = pool_.options().analyzer;
     if (env.result.dominant_failure_mode == FailureMode::cannot_stand) {
       return json_response(200, {{"replay", nullptr}, {"reason", env.result.reason}});
@@ -784,9 +789,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     }
     const ConveyorProfile profile = probe_profile(choice->axis, value, o.line, o.search);
     std::optional<Result<Solve>> run;
-    auto refusal = pool_.run(
-        *ticket, [&](Analyzer& a) { run = a.solve(config, profile, std::get<double>(hz)); });
-    if (refusal) return refusal_response(*refusal, *ticket);
+    auto refusal =
+        pool_.run(ticket, [&](Analyzer& analyzer) { run = analyzer.solve(config, profile, hz); });
+    if (refusal) return refusal_response(*refusal, ticket);
     if (!*run) return core_failure(run->diagnostics, prefix);
     pool_.count_simulations(1);
     Json out = sim_result_to_json((*run)->sim, profile);
