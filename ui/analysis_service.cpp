@@ -36,12 +36,14 @@ AnalysisService::AnalysisService(pb::AnalyzerOptions options, QObject* parent)
   // One thread, kept for the service's life: requests run in order on one Analyzer.
   _pool.setMaxThreadCount(1);
   _pool.setExpiryTimeout(-1);
+  _analyzer->set_cancel(&_stopRunning);
 }
 
 AnalysisService::~AnalysisService() {
   {
     std::lock_guard lock(_mutex);
     _cancelled.insert(_pending.begin(), _pending.end());
+    if (_running != 0) _stopRunning = true;
   }
   _pool.clear();
   _pool.waitForDone();
@@ -127,6 +129,7 @@ void AnalysisService::cancel(RequestId id) {
   {
     std::lock_guard lock(_mutex);
     _cancelled.insert(id);
+    if (_running == id) _stopRunning = true;  // stop the simulation it is stepping
   }
   emit cancelled(id);
 }
@@ -141,11 +144,22 @@ RequestId AnalysisService::submit(Job job) {
   _pending.insert(id);
   pb::Analyzer* analyzer = _analyzer.get();
   _pool.start([this, id, analyzer, job = std::move(job)] {
-    if (isCancelled(id)) {
+    {
       std::lock_guard lock(_mutex);
-      _cancelled.erase(id);
-      return;
+      if (_cancelled.contains(id)) {
+        _cancelled.erase(id);
+        return;
+      }
+      _running = id;
+      _stopRunning = false;
     }
+    struct NotRunning {
+      AnalysisService* service;
+      ~NotRunning() {
+        std::lock_guard lock(service->_mutex);
+        service->_running = 0;
+      }
+    } not_running{this};
     std::function<void()> emitResult;
     try {
       emitResult = job(*analyzer, id);
@@ -162,11 +176,6 @@ RequestId AnalysisService::submit(Job job) {
         this, [this, id, emitResult] { finish(id, emitResult); }, Qt::QueuedConnection);
   });
   return id;
-}
-
-bool AnalysisService::isCancelled(RequestId id) const {
-  std::lock_guard lock(_mutex);
-  return _cancelled.contains(id);
 }
 
 void AnalysisService::finish(RequestId id, const std::function<void()>& emitResult) {

@@ -29,8 +29,9 @@ using FailureMapPtr = std::shared_ptr<const pb::FailureMap>;
 /// Every request gets a non-zero id and ends with exactly one of analyzed / envelopeReady /
 /// solved, failed, or cancelled; progress() reports what the worker is doing meanwhile. All of
 /// these are emitted on the service's (GUI) thread. A cancelled request's result is dropped; a
-/// request that has not started is skipped, but a core call that has started (one MuJoCo probe or
-/// a whole envelope search) cannot be interrupted: it runs to its end, then is thrown away.
+/// request that has not started is skipped, and one that is running is stopped inside the
+/// simulation it is stepping (core/cancel.hpp: within a step of every probe of a search or a map),
+/// so the worker is free for the next request at once.
 class AnalysisService : public QObject {
   Q_OBJECT
 
@@ -75,7 +76,6 @@ class AnalysisService : public QObject {
   /// Work done on the worker thread; returns what to run back on the GUI thread.
   using Job = std::function<std::function<void()>(pb::Analyzer&, RequestId)>;
   RequestId submit(Job job);
-  bool isCancelled(RequestId id) const;
   /// Runs on the GUI thread: emits the request's end unless it was cancelled meanwhile.
   void finish(RequestId id, const std::function<void()>& emitResult);
   void reportProgress(RequestId id, const QString& step);
@@ -85,9 +85,11 @@ class AnalysisService : public QObject {
                                       const pb::PalletConfig& config);
 
   std::unique_ptr<pb::Analyzer> _analyzer;  ///< used by the worker thread only
-  mutable std::mutex _mutex;                ///< guards _cancelled
+  mutable std::mutex _mutex;                ///< guards _cancelled and _running
   std::set<RequestId> _cancelled;
-  std::set<RequestId> _pending;  ///< GUI thread only
+  RequestId _running = 0;              ///< the request the worker runs now (0: none)
+  pb::CancelFlag _stopRunning{false};  ///< set to stop it; the analyzer's runs check it
+  std::set<RequestId> _pending;        ///< GUI thread only
   RequestId _nextId = 1;
   QThreadPool _pool;  ///< declared last: destroyed (and drained) first
 };
