@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t(1), std::size_t(100000)))
       ->capture_default_str();
   app.add_option("--time-limit", service.time_limit_s,
-                 "seconds one request may compute; its work is then stopped (503)")
+                 "seconds one request may take, waiting for an analyzer included; its work is then "
+                 "stopped (503)")
       ->check(CLI::Range(0.1, 86400.0))
       ->capture_default_str();
   app.add_option("--cache-size", service.pool.max_cached_envelopes,
