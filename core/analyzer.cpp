@@ -213,6 +213,48 @@ Result<SafetyResult> Analyzer::analyze(const PalletConfig& config) {
   return Result<SafetyResult>{env->result, std::move(env.diagnostics)};
 }
 
+void Analyzer::follow_wreck(const PalletConfig& config, PreparedPallet& p,
+                            const ConveyorProfile& profile, SimOptions o, SimResult& verdict) {
+  if (!p.aftermath_simulator && p.aftermath_problem.empty()) {
+    SceneOptions so = p.scene->options;
+    so.aftermath = true;
+    auto scene = build_scene(config, so, *friction_);
+    if (!scene) {
+      p.aftermath_problem = scene.diagnostics.empty() ? "the aftermath model could not be built"
+                                                      : scene.diagnostics[0].message;
+    } else {
+      p.aftermath_scene = std::make_unique<Scene>(std::move(*scene.value));
+      auto simulator = Simulator::create(*p.aftermath_scene);
+      if (!simulator) {
+        p.aftermath_problem = simulator.diagnostics.empty() ? "no memory for the aftermath model"
+                                                            : simulator.diagnostics[0].message;
+        p.aftermath_scene.reset();
+      } else {
+        p.aftermath_simulator = std::make_unique<Simulator>(std::move(*simulator.value));
+      }
+    }
+  }
+  if (!p.aftermath_simulator) {
+    verdict.aftermath_cut = "no aftermath: " + p.aftermath_problem;
+    return;
+  }
+  o.fail_fast = false;
+  o.follow_failure_s = kSolveAftermathS;
+  SimResult wreck = p.aftermath_simulator->run(p.rest, profile, o);
+  const bool same = wreck.outcome == Outcome::failed && wreck.failure && verdict.failure &&
+                    wreck.failure->mode == verdict.failure->mode &&
+                    wreck.failure->time_s == verdict.failure->time_s &&
+                    wreck.failure->items == verdict.failure->items;
+  if (!same) {
+    verdict.aftermath_cut =
+        "no aftermath: the model that follows the wreck did not reproduce the first failure";
+    verdict.wall_ms += wreck.wall_ms;
+    return;
+  }
+  wreck.wall_ms += verdict.wall_ms;
+  verdict = std::move(wreck);
+}
+
 Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile& profile,
                               double replay_hz) {
   Diagnostics problems = validate_profile(profile, "/profile");
@@ -226,7 +268,8 @@ Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile&
   SimOptions o = options_.sim;
   o.record_trace = true;
   Solve solve;
-  solve.sim = p.simulator->run(p.rest, profile, o);
+  solve.sim = p.simulator->run(p.rest, profile, o);  // the verdict, as a search sees it
+  if (solve.sim.outcome == Outcome::failed) follow_wreck(config, p, profile, o, solve.sim);
   solve.replay =
       make_replay(solve.sim.trace, config, profile, std::string(to_string(solve.sim.outcome)),
                   solve.sim.failure, replay_hz);

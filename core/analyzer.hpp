@@ -41,6 +41,9 @@ struct AnalyzerOptions {
   UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
 };
 
+/// How long Analyzer::solve follows a failure at most (SimOptions::follow_failure_s).
+inline constexpr double kSolveAftermathS = 3.0;
+
 /// A compiled, settled pallet: everything a probe needs.
 struct PreparedPallet {
   std::string fingerprint;
@@ -50,6 +53,11 @@ struct PreparedPallet {
   QuasiStaticBounds bounds;
   FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
   double prepare_ms = 0.0;  ///< compile + settle wall time
+  /// The same scene with whatever touches colliding (SceneOptions::aftermath), compiled the first
+  /// time a solve fails, to follow the wreck; `aftermath_problem` says why there is none.
+  std::unique_ptr<Scene> aftermath_scene;
+  std::unique_ptr<Simulator> aftermath_simulator;
+  std::string aftermath_problem;
 };
 
 /// One conveyor profile, simulated, with its replay.
@@ -76,7 +84,14 @@ class Analyzer {
   /// cached), with the analyzer's line, search and simulation options.
   Result<FailureMap> failure_map(const PalletConfig& config, const MapOptions& options = {});
 
-  /// Runs one profile from rest with a full trace and a replay at `replay_hz`.
+  /// Runs one profile from rest with a full trace and a replay at `replay_hz`. The outcome and
+  /// failure are the first detector crossing, on the model the searches use. A failed run is then
+  /// run again on the aftermath model (SceneOptions::aftermath: cartons land on the deck, each
+  /// other and the belt) to follow the wreck until the load moves with the belt again or
+  /// kSolveAftermathS after the failure, past the profile's end if need be; its trace is the
+  /// replay's when it reproduces the verdict (the same mode, time and items, as it must: nothing
+  /// differs until something touches that no pair covers). SimResult::aftermath_cut says why a
+  /// replay ends at the failure instead.
   Result<Solve> solve(const PalletConfig& config, const ConveyorProfile& profile,
                       double replay_hz = 30.0);
 
@@ -99,6 +114,11 @@ class Analyzer {
   /// its prepared scene and says to run again; false when `why` is something else or the buffers
   /// were doubled three times already.
   bool grow_buffers(std::string key, const Diagnostics& why);
+
+  /// Replaces a failed `verdict` by the same run on the pallet's aftermath model, followed past
+  /// the failure, when that run reproduces the verdict; otherwise says why not in aftermath_cut.
+  void follow_wreck(const PalletConfig& config, PreparedPallet& p, const ConveyorProfile& profile,
+                    SimOptions o, SimResult& verdict);
 
   AnalyzerOptions options_;
   const FrictionModel* friction_;

@@ -204,6 +204,8 @@ void ProbeRun::shift(Pose& p) const {
 // distance (a rocking item's centre of mass rises by (b/2)/h per metre only while the angle is
 // small) and friction dissipates at mu N only while N is the item's weight.
 constexpr double kBarrierShare = 0.5;
+/// The aftermath of a failure lasts at least this long before a load moving with the belt ends it.
+constexpr double kMinAftermathS = 0.25;
 
 double ProbeRun::potential_energy(const mjModel& m, const mjData& d) const {
   double pe = 0.0;
@@ -249,7 +251,13 @@ void ProbeRun::unstable(const std::string& reason) {
 }
 
 void ProbeRun::engine_error(const std::string& reason) {
-  unstable(reason + " (at t = " + fixed((k_ + 1) * dt_, 3) + " s)");
+  const std::string why = reason + " (at t = " + fixed((k_ + 1) * dt_, 3) + " s)";
+  if (r_.failure) {  // the verdict came first: only the aftermath is cut short
+    r_.aftermath_cut = why;
+    done_ = true;
+    return;
+  }
+  unstable(why);
 }
 
 void ProbeRun::finish(const mjModel& m, const mjData& d) {
@@ -259,7 +267,12 @@ void ProbeRun::finish(const mjModel& m, const mjData& d) {
     return;
   }
   if (auto reason = instability_reason(&m, &d)) {
-    unstable(*reason + " (by t = " + fixed(r_.sim_time_s, 3) + " s)");
+    const std::string why = *reason + " (by t = " + fixed(r_.sim_time_s, 3) + " s)";
+    if (r_.failure) {
+      r_.aftermath_cut = why;
+    } else {
+      unstable(why);
+    }
   }
 }
 
@@ -282,7 +295,13 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
     broken = std::string("the pallet sank through the belt: contacts could not hold it");
   }
   if (broken) {
-    unstable(*broken + " (at t = " + fixed(t_next, 3) + " s)");
+    const std::string why = *broken + " (at t = " + fixed(t_next, 3) + " s)";
+    if (r_.failure && !is_cancelled(o_.cancel)) {  // after the verdict: the aftermath ends here
+      r_.aftermath_cut = why;
+      done_ = true;
+    } else {
+      unstable(why);
+    }
     return false;
   }
   const Trace::BeltState belt{d.qpos[l.belt_x_qpos] - belt_x0_, d.qpos[l.belt_y_qpos] - belt_y0_,
@@ -368,6 +387,22 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
         }
       }
     }
+  }
+  if (r_.failure && o_.follow_failure_s > 0.0) {
+    // The aftermath: until the load moves with the belt again or the time is up, past the
+    // profile's end if need be (the belt keeps its last command).
+    double spin = 0.0;
+    const bool with_belt =
+        max_relative_speed(l, d, belt.vx, belt.vy, &spin) < o_.comove_speed_mps &&
+        spin < o_.comove_spin_radps;
+    settled_after_failure_ = with_belt ? settled_after_failure_ + 1 : 0;
+    const double since = t_next - r_.failure->time_s;
+    if (since >= o_.follow_failure_s ||
+        (since >= kMinAftermathS && settled_after_failure_ >= comove_needed_)) {
+      finish(m, d);
+      return false;
+    }
+    return true;
   }
   if (k_ >= n_steps_) {
     finish(m, d);

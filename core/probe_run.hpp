@@ -103,6 +103,7 @@ class ProbeRun {
   int n_steps_ = 0, k_ = 0, comove_needed_ = 1, comove_steps_ = 0;
   // Deciding early on energy: steps below the barrier in a row, and how many make it certain.
   int calm_steps_ = 0, calm_needed_ = 1;
+  int settled_after_failure_ = 0;  ///< steps the load has moved with the belt since the failure
   double pe0_ = 0.0;
   std::vector<double> vrel_, mv_;
   // Skipping: the profile's breakpoints, the phase of the last step, the co-moving steps within

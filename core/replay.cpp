@@ -382,12 +382,24 @@ Replay make_replay(const Trace& trace, const PalletConfig& pallet, const Conveyo
   auto k = static_cast<std::int64_t>(std::ceil(first * hz));
   while (grid(k - 1) >= first) --k;
   while (grid(k) < first) ++k;
+  // The failure's own instant is a frame too (the moment the detector fired, exactly), wherever
+  // it falls between two grid times.
+  const double fired = out.failure ? out.failure->time_s : 0.0;
+  bool fired_placed = !out.failure || fired < first || fired > last;
   std::size_t j = 0;
-  for (; grid(k) <= last; ++k) {
-    const double t = grid(k);
+  auto place = [&](double t) {
     while (j + 1 < trace.size() && trace.time(j + 1) <= t) ++j;
     out.frames.push_back(sample(trace, j, t));
+  };
+  for (; grid(k) <= last; ++k) {
+    const double t = grid(k);
+    if (!fired_placed && fired <= t) {
+      if (fired < t) place(fired);
+      fired_placed = true;
+    }
+    place(t);
   }
+  if (!fired_placed && (out.frames.empty() || out.frames.back().t < fired)) place(fired);
   if (out.frames.empty() || out.frames.back().t != last) {
     out.frames.push_back(sample(trace, trace.size() - 1, last));
   }

@@ -45,9 +45,10 @@ struct Replay {
 
 /// Resamples a trace at `hz`: one frame at every t = k / hz from the trace's first time through its
 /// last (positions and belt travel interpolated linearly, orientations by slerp, between the two
-/// trace frames around t), then the trace's last frame itself if its time is not on that grid, so
-/// the last frame of a failed run is the moment the detector fired. An empty trace or a
-/// non-positive `hz` gives no frames.
+/// trace frames around t), then the trace's last frame itself if its time is not on that grid;
+/// the failure's time, when it is not on the grid, is a frame of its own, so that the moment the
+/// detector fired is shown exactly (a failed run goes on after it: Analyzer::solve follows the
+/// wreck). An empty trace or a non-positive `hz` gives no frames.
 Replay make_replay(const Trace& trace, const PalletConfig& pallet, const ConveyorProfile& profile,
                    std::string outcome, std::optional<FailureEvent> failure, double hz = 30.0);
 

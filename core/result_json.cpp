@@ -44,6 +44,7 @@ Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile) {
   j["outcome"] = to_string(sim.outcome);
   j["failure"] = failure_event_to_json(sim.failure);
   if (sim.outcome == Outcome::unstable) j["reason"] = sim.reason;
+  if (!sim.aftermath_cut.empty()) j["aftermath_cut"] = sim.aftermath_cut;
   j["steps"] = sim.steps;
   j["steps_skipped"] = sim.steps_skipped;
   j["skipped_s"] = sim.skipped_s;

@@ -29,7 +29,8 @@ Json validation_report_to_json(const PalletConfig& config, const Diagnostics& di
 /// null, or {"mode", "time_s", "value", "items", "description"}.
 Json failure_event_to_json(const std::optional<FailureEvent>& failure);
 
-/// One simulation of `profile`: "outcome", "failure", "reason" (unstable only), "steps",
+/// One simulation of `profile`: "outcome", "failure", "reason" (unstable only), "aftermath_cut"
+/// (only when a failure's aftermath ended early, and why), "steps",
 /// "steps_skipped", "skipped_s", "sim_time_s", "stopped_early", "wall_ms", "profile".
 Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile);
 

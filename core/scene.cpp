@@ -180,7 +180,8 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   // is still caught and reported, never a verdict. The stack holds the solver's work arrays.
   const std::size_t stacked = static_cast<std::size_t>(
       std::count_if(p.pairs.begin(), p.pairs.end(), [](const Pair& q) { return q.stacked; }));
-  const double want = o.buffer_scale * double(6 * stacked + (p.pairs.size() - stacked) + 8);
+  const double want = o.buffer_scale * double(6 * stacked + (p.pairs.size() - stacked) + 8 +
+                                              (o.aftermath ? 4 * n : 0));
   p.sizes.nconmax = o.nconmax > 0 ? o.nconmax : static_cast<int>(std::ceil(want));
   p.sizes.njmax = o.njmax > 0 ? o.njmax : 4 * p.sizes.nconmax + 6 * p.welds;
   p.sizes.nstack = o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax;
@@ -213,6 +214,10 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   const int welds = plan.welds;
   const int nconmax = plan.sizes.nconmax, njmax = plan.sizes.njmax, nstack = plan.sizes.nstack;
 
+  // The friction of a geom's dynamic contacts (the aftermath only; pairs carry their own).
+  auto geom_friction = [&](const FrictionValue& mu) {
+    return o.aftermath ? " friction=\"" + num(mu.mu_s) + " 0.005 0.0001\"" : std::string();
+  };
   std::ostringstream x;
   x << "<mujoco model=\""
     << "pallet"
@@ -233,7 +238,11 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
     << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
     << "\"/>\n"
-    << "  <default><geom contype=\"0\" conaffinity=\"0\" condim=\"3\"/></default>\n"
+    << (o.aftermath ? "  <default><geom contype=\"1\" conaffinity=\"1\" condim=\"3\" solref=\"" +
+                          nums(o.contact_solref) + "\" solimp=\"" + nums(o.contact_solimp) +
+                          "\"/></default>\n"
+                    : std::string("  <default><geom contype=\"0\" conaffinity=\"0\" "
+                                  "condim=\"3\"/></default>\n"))
     << "  <worldbody>\n";
   // The belt: its top face at z = 0, wide enough that the pallet never runs off it.
   const double belt_h = 0.05;
@@ -243,7 +252,8 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "      <inertial pos=\"0 0 0\" mass=\"" << num(o.belt_mass_kg)
     << "\" diaginertia=\"1 1 1\"/>\n"
     << "      <geom name=\"belt\" type=\"box\" size=\"" << num(base[0] + 1.0) << " "
-    << num(base[1] + 1.0) << " " << num(belt_h) << "\"/>\n"
+    << num(base[1] + 1.0) << " " << num(belt_h) << "\"" << geom_friction(friction.belt_pallet)
+    << "/>\n"
     << "    </body>\n";
   {
     const double m = config.base_mass_kg;
@@ -254,7 +264,7 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
       << num(m / 3 * (h[1] * h[1] + h[2] * h[2])) << " " << num(m / 3 * (h[0] * h[0] + h[2] * h[2]))
       << " " << num(m / 3 * (h[0] * h[0] + h[1] * h[1])) << "\"/>\n"
       << "      <geom name=\"pallet\" type=\"box\" size=\"" << num(h[0]) << " " << num(h[1]) << " "
-      << num(h[2]) << "\"/>\n";
+      << num(h[2]) << "\"" << geom_friction(friction.item_pallet) << "/>\n";
   }
   // Merged items are bodies without a joint inside what carries them (the pallet's body or another
   // item's), placed in its frame; free items are top-level bodies with a free joint.
@@ -297,7 +307,8 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
       << num(m / 12 * (d[0] * d[0] + d[2] * d[2])) << " "
       << num(m / 12 * (d[0] * d[0] + d[1] * d[1])) << "\"/>\n"
       << indent << "  <geom name=\"item_" << i << "\" type=\"box\" pos=\"" << num(lx) << " "
-      << num(ly) << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\"/>\n";
+      << num(ly) << " 0\" size=\"" << num(hx) << " " << num(hy) << " " << num(d[2] / 2) << "\""
+      << geom_friction(friction.item_item) << "/>\n";
     for (std::size_t j = 0; j < n; ++j) {
       if (rigid.carrier[j] == int(i)) emit_item(j, c, depth + 1);
     }

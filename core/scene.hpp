@@ -61,6 +61,14 @@ struct SceneOptions {
   /// dropped. Empty: every item free (or merged by merge_wrapped). Ignored unless its size is the
   /// number of items, and for a wrapped load (its welds decide).
   std::vector<int> rigid_carrier;
+  /// The wreck after a failure (Analyzer::solve's replay): besides the pairs, whatever touches
+  /// collides (every geom gets contype = conaffinity = 1 and the friction of its kind: item/item
+  /// for items, item/pallet for the pallet, belt/pallet for the belt; MuJoCo takes the larger of
+  /// two), so falling cartons land on the deck, each other and the belt; buffers get 4 contacts
+  /// more per item. Until something touches that no pair covers, the contacts and so the motion
+  /// are the same as without it (MuJoCo merges predefined pairs in their order and skips their
+  /// geoms among the dynamic ones).
+  bool aftermath = false;
   /// Buffer sizes; <= 0 means sized from the scene (times buffer_scale, which the Analyzer doubles
   /// after an overflow).
   double buffer_scale = 1.0;

@@ -65,7 +65,12 @@ std::string_view to_string(Outcome outcome);
 
 struct SimOptions {
   DetectorThresholds thresholds;
-  bool fail_fast = true;   ///< stop at the first failure
+  bool fail_fast = true;  ///< stop at the first failure
+  /// With fail_fast off: after the first failure (the verdict, unchanged) the run follows the
+  /// wreck, past the profile's end if need be, until the load moves with the belt again (after at
+  /// least 0.25 s) or this long after the failure; an instability meanwhile ends the run and keeps
+  /// the verdict (SimResult::aftermath_cut says why). 0: to the profile's end, as before.
+  double follow_failure_s = 0.0;
   bool early_stop = true;  ///< stop once the load co-moves with the belt after the last breakpoint
   double comove_speed_mps = 0.001;  ///< co-moving: every body within this of the belt's velocity
   double comove_spin_radps = 0.01;
@@ -90,6 +95,9 @@ struct SimResult {
   Outcome outcome = Outcome::safe;
   std::optional<FailureEvent> failure;
   std::string reason;  ///< why the run is unstable (empty otherwise)
+  /// Why the aftermath of a failure ended before its time (an instability after the verdict, which
+  /// stays failed); empty otherwise.
+  std::string aftermath_cut;
   Trace trace;
   int steps = 0;               ///< profile steps reached (stepped + skipped)
   int steps_skipped = 0;       ///< of `steps`, jumped analytically (skip_comoving)

@@ -18,9 +18,9 @@ class ReplayPlayer : public QObject {
  public:
   /// Slow motion runs from this long before the failure ...
   static constexpr double kSlowBeforeS = 0.5;
-  /// ... to this long after it (a failed replay ends at the failure, so this matters for replays
-  /// cut later, e.g. read from a file).
-  static constexpr double kSlowAfterS = 0.25;
+  /// ... to this long after it: a failed replay follows the wreck after the failure
+  /// (Analyzer::solve), and the first second of it is the moment a supervisor wants to see.
+  static constexpr double kSlowAfterS = 1.5;
   /// The slow-motion rate (a fraction of real time).
   static constexpr double kSlowRate = 0.25;
 

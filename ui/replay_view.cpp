@@ -183,8 +183,15 @@ void ReplayView::setReplay(const pb::Replay& replay) {
 }
 
 void ReplayView::setTime(double t) {
+  const pb::Vec3 before = _frame.pallet.pos;
   _frame = frameAt(_replay, t);
   _time = _frame.t;
+  if (!_follow) {
+    // Ride along with the load: the view moves with the pallet's travel (the belt's stripes show
+    // the motion), so a wreck seconds down the belt stays in view; orbit and zoom are kept.
+    _camera.target += QVector3D(static_cast<float>(_frame.pallet.pos[0] - before[0]),
+                                static_cast<float>(_frame.pallet.pos[1] - before[1]), 0.0f);
+  }
   updateFollowTarget();
   update();
 }

@@ -48,7 +48,8 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   /// Shows `replay` at its first frame and frames the load with the current preset.
   void setReplay(const pb::Replay& replay);
   const pb::Replay& replay() const { return _replay; }
-  /// Moves the replay to `t` seconds (clamped to the replay's frames).
+  /// Moves the replay to `t` seconds (clamped to the replay's frames). The camera rides along
+  /// with the pallet's horizontal travel (or follows the failing item: setFollowFailure).
   void setTime(double t);
   double time() const { return _time; }
   /// The poses shown at the current time, interpolated between the two frames around it.

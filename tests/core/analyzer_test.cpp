@@ -158,6 +158,38 @@ class AnalyzerTest : public QObject {
     QVERIFY(other->config_hash != first->config_hash);
   }
 
+  // A failed solve follows the wreck on the aftermath model (whatever touches collides) and keeps
+  // the verdict a search sees: the same first failure, and up to it the very same motion, frame
+  // for frame, as the search's model (nothing differs until something touches that no pair
+  // covers); after it the run goes on until the cartons move with the belt again.
+  void solveFollowsTheWreck() {
+    Analyzer analyzer({}, friction());
+    auto prepared = analyzer.prepare(column());
+    QVERIFY2(prepared, describe(prepared.diagnostics).c_str());
+    PreparedPallet& p = **prepared.value;
+    SimOptions o = analyzer.options().sim;
+    o.record_trace = true;
+    const SimResult verdict = p.simulator->run(p.rest, hard_start(), o);  // as a search sees it
+    QCOMPARE(verdict.outcome, Outcome::failed);
+    const auto solved = analyzer.solve(column(), hard_start());
+    QVERIFY2(solved, describe(solved.diagnostics).c_str());
+    const SimResult& wreck = solved->sim;
+    QVERIFY2(wreck.aftermath_cut.empty(), wreck.aftermath_cut.c_str());
+    QVERIFY(wreck.failure == verdict.failure);
+    QVERIFY(wreck.sim_time_s >= verdict.sim_time_s + 0.25);
+    QVERIFY(wreck.sim_time_s <= verdict.failure->time_s + kSolveAftermathS + 1e-9);
+    QVERIFY(wreck.trace.size() > verdict.trace.size());
+    for (std::size_t f = 0; f < verdict.trace.size(); ++f) {
+      const auto a = verdict.trace.items(f), b = wreck.trace.items(f);
+      QVERIFY(verdict.trace.time(f) == wreck.trace.time(f));
+      QVERIFY(verdict.trace.pallet(f) == wreck.trace.pallet(f));
+      QVERIFY(std::equal(a.begin(), a.end(), b.begin(), b.end()));
+    }
+    QVERIFY(p.aftermath_scene != nullptr);
+    QVERIFY(p.aftermath_scene->mjcf.find("contype=\"1\"") != std::string::npos);
+    QVERIFY(p.scene->mjcf.find("contype=\"1\"") == std::string::npos);  // searches: pairs only
+  }
+
   // A cancelled call ends without a verdict and caches nothing: the settle at its next check, a
   // search or a map inside the probe it is stepping, a solve as an unstable run that says so.
   // Cleared, the same analyzer then gives the answer a fresh one gives.

@@ -5,6 +5,7 @@
 #include <QDir>
 #include <QImage>
 #include <QTest>
+#include <cmath>
 
 #include "core/analyzer.hpp"
 #include "core/scenario.hpp"
@@ -131,6 +132,31 @@ class TestGlReplayView : public QObject {
     const QPointF centre = view.project(toQt(view.currentFrame().items[7].pos));
     QVERIFY(std::abs(centre.x() - kSize.width() / 2.0) < 0.5);
     QVERIFY(std::abs(centre.y() - kSize.height() / 2.0) < 0.5);
+  }
+
+  // The replay goes on after the failure (the wreck); the camera rides along with the pallet, so
+  // at the end, metres down the belt, the pallet is where it was in the view at the start, and
+  // drawn there. The end's picture is kept as an artifact.
+  void theCameraRidesAlongToTheWreck() {
+    ReplayView view;
+    view.resize(kSize);
+    view.setReplay(_replay);
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QPointF start = view.project(toQt(view.currentFrame().pallet.pos));
+    const pb::Vec3 startPos = view.currentFrame().pallet.pos;
+    view.setTime(_replay.frames.back().t);
+    QVERIFY(_replay.frames.back().t > _replay.failure->time_s + 0.25);
+    const pb::Pose end = view.currentFrame().pallet;
+    QVERIFY(std::hypot(end.pos[0] - startPos[0], end.pos[1] - startPos[1]) > 1.0);  // travelled
+    const QPointF there = view.project(toQt({end.pos[0], end.pos[1], startPos[2]}));
+    QVERIFY(std::abs(there.x() - start.x()) < 1.0 && std::abs(there.y() - start.y()) < 1.0);
+    const QImage image = view.grabFramebuffer();
+    const QPointF deck = view.project(toQt(end.pos));
+    QVERIFY(image.pixelColor(deck.toPoint()) != ReplayView::backgroundColor());
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)));
+    QVERIFY(
+        image.save(QStringLiteral(PB_TEST_ARTIFACTS_DIR "/replay_tall-unwrapped-tower_end.png")));
   }
 };
 

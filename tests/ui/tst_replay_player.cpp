@@ -45,8 +45,8 @@ class TestReplayPlayer : public QObject {
     const std::optional<double> f = 1.0;
     QCOMPARE(ReplayPlayer::rateAt(0.49, 1.0, true, f), 1.0);
     QCOMPARE(ReplayPlayer::rateAt(0.5, 1.0, true, f), 0.25);
-    QCOMPARE(ReplayPlayer::rateAt(1.25, 1.0, true, f), 0.25);
-    QCOMPARE(ReplayPlayer::rateAt(1.26, 1.0, true, f), 1.0);
+    QCOMPARE(ReplayPlayer::rateAt(2.5, 1.0, true, f), 0.25);  // the wreck, well after it
+    QCOMPARE(ReplayPlayer::rateAt(2.51, 1.0, true, f), 1.0);
     QCOMPARE(ReplayPlayer::rateAt(0.8, 0.5, false, f), 0.5);            // switched off
     QCOMPARE(ReplayPlayer::rateAt(0.8, 0.5, true, std::nullopt), 0.5);  // nothing failed
     QCOMPARE(ReplayPlayer::rateAt(0.8, 0.25, true, f), 0.25);           // never faster than chosen

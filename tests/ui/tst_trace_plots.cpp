@@ -113,13 +113,17 @@ class TestTracePlots : public QObject {
         QFAIL("a failed replay without a conveyor mode");
     }
     const auto& c = curves[q];
-    // The last frame is the moment the detector fired: over the threshold, with its value (the
-    // replay rounds positions to 0.01 mm, hence the tolerance).
-    QVERIFY(c.value.back() > c.threshold);
-    QVERIFY2(std::abs(c.value.back() - scale * event.value) < 0.01 * scale * event.value + 0.01,
-             qPrintable(QStringLiteral("%1 vs %2").arg(c.value.back()).arg(scale * event.value)));
-    // ... and below it before (the detector fires at the first crossing).
-    for (std::size_t i = 0; i + 1 < c.value.size(); ++i) QVERIFY(c.value[i] <= c.threshold + 1e-6);
+    // The frame at the failure's instant is the moment the detector fired: over the threshold,
+    // with its value (the replay rounds positions to 0.01 mm, hence the tolerance) ...
+    std::size_t fired = 0;
+    while (fired < replay.frames.size() && replay.frames[fired].t != event.time_s) ++fired;
+    QVERIFY(fired < c.value.size());
+    QVERIFY(c.value[fired] > c.threshold);
+    QVERIFY2(std::abs(c.value[fired] - scale * event.value) < 0.01 * scale * event.value + 0.01,
+             qPrintable(QStringLiteral("%1 vs %2").arg(c.value[fired]).arg(scale * event.value)));
+    // ... below it before (the detector fires at the first crossing), and the wreck after it.
+    for (std::size_t i = 0; i < fired; ++i) QVERIFY(c.value[i] <= c.threshold + 1e-6);
+    QVERIFY(fired + 1 < c.value.size());
 
     TracePlots plots;
     plots.resize(800, 520);
