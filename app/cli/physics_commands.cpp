@@ -493,7 +493,8 @@ std::vector<Command> physics_commands() {
         "[--decel-start S] [--radius R] [--angle DEG] [--eumos-g K] [--replay OUT.json] "
         "[--hz HZ]",
         "Simulate one conveyor profile from rest and print the outcome, the first failure and "
-        "the run's statistics. Without --speed and --accel a scenario's suggested profile is run "
+        "the run's statistics. A failed run is followed past its failure (the wreck, up to 3 s, "
+        "until the load moves with the belt again), so its replay shows the pallet going over. Without --speed and --accel a scenario's suggested profile is run "
         "(the other flags still override its fields). Exit 0 for a safe or failed outcome, 2 for "
         "bad input, 1 when the simulation became unstable. " +
             file,
