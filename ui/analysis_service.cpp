@@ -6,6 +6,9 @@
 #include <exception>
 #include <utility>
 
+#include "core/fingerprint.hpp"
+#include "core/text.hpp"
+
 namespace pb::ui {
 
 namespace {
@@ -108,10 +111,38 @@ RequestId AnalysisService::solve(const pb::PalletConfig& config, const pb::Conve
   });
 }
 
+namespace {
+
+// What a failure map depends on besides the analyzer's options: the pallet and the grid.
+std::string mapKey(const pb::PalletConfig& config, const pb::MapOptions& o) {
+  std::string key = pb::config_fingerprint(config) + "|" + std::to_string(o.n_speeds) + "x" +
+                    std::to_string(o.n_accels);
+  for (const auto* grid : {&o.speeds_mps, &o.accels_mps2}) {
+    key += "|";
+    for (double v : *grid) key += pb::short_number(v) + ",";
+  }
+  return key;
+}
+
+constexpr std::size_t kCachedMaps = 16;
+
+}  // namespace
+
 RequestId AnalysisService::failureMap(const pb::PalletConfig& config,
                                       const pb::MapOptions& options) {
+  const std::string key = mapKey(config, options);
+  if (auto it = _maps.find(key); it != _maps.end()) {  // computed before: answered at once
+    const RequestId id = _nextId++;
+    _pending.insert(id);
+    FailureMapPtr value = it->second;
+    QMetaObject::invokeMethod(
+        this,
+        [this, id, value] { finish(id, [this, id, value] { emit failureMapReady(id, value); }); },
+        Qt::QueuedConnection);
+    return id;
+  }
   return submit(
-      [this, config, options](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
+      [this, config, options, key](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
         if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
         reportProgress(id, tr("Mapping speed against acceleration"));
         auto result = analyzer.failure_map(config, options);
@@ -120,7 +151,15 @@ RequestId AnalysisService::failureMap(const pb::PalletConfig& config,
           return [this, id, message] { emit failed(id, message); };
         }
         FailureMapPtr value = std::make_shared<const pb::FailureMap>(std::move(*result.value));
-        return [this, id, value] { emit failureMapReady(id, value); };
+        // On the GUI thread: kept for the next request of the same pallet and grid (a map with
+        // cells that had no verdict is not kept: the next request tries again).
+        return [this, id, value, key] {
+          if (value->unstable_cells == 0) {
+            if (_maps.size() >= kCachedMaps) _maps.clear();
+            _maps.emplace(key, value);
+          }
+          emit failureMapReady(id, value);
+        };
       });
 }
 

@@ -7,6 +7,7 @@
 #include <QString>
 #include <QThreadPool>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -50,7 +51,8 @@ class AnalysisService : public QObject {
                   double replay_hz = 30.0);
 
   /// The speed x start-up-acceleration failure map (one batched call over `options.threads`
-  /// workers). Ends with failureMapReady() or failed().
+  /// workers). Ends with failureMapReady() or failed(). A map of the same pallet (fingerprint) and
+  /// grid computed before is answered from the service's cache, without simulating.
   RequestId failureMap(const pb::PalletConfig& config, const pb::MapOptions& options = {});
 
   /// Drops the request's result; it ends with cancelled(). Unknown or finished ids are ignored.
@@ -87,9 +89,10 @@ class AnalysisService : public QObject {
   std::unique_ptr<pb::Analyzer> _analyzer;  ///< used by the worker thread only
   mutable std::mutex _mutex;                ///< guards _cancelled and _running
   std::set<RequestId> _cancelled;
-  RequestId _running = 0;              ///< the request the worker runs now (0: none)
-  pb::CancelFlag _stopRunning{false};  ///< set to stop it; the analyzer's runs check it
-  std::set<RequestId> _pending;        ///< GUI thread only
+  RequestId _running = 0;                      ///< the request the worker runs now (0: none)
+  pb::CancelFlag _stopRunning{false};          ///< set to stop it; the analyzer's runs check it
+  std::set<RequestId> _pending;                ///< GUI thread only
+  std::map<std::string, FailureMapPtr> _maps;  ///< GUI thread only: by pallet and grid
   RequestId _nextId = 1;
   QThreadPool _pool;  ///< declared last: destroyed (and drained) first
 };

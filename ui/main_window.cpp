@@ -102,6 +102,14 @@ MainWindow::MainWindow(QWidget* parent)
   connect(_document, &PalletDocument::modifiedChanged, this, &QWidget::setWindowModified);
   connect(_document, &PalletDocument::changed, _friction, &FrictionChart::setPallet);
   connect(_document, &PalletDocument::changed, this, [this] {
+    // Whatever was asked about the previous pallet is no answer for this one: stop it (the core
+    // stops inside the probe it steps) rather than show it under the edited pallet.
+    if (_service->pendingCount() > 0) {
+      _cancelReason = tr("Cancelled: the pallet changed");
+      _service->cancelAll();
+      _cancelReason.clear();
+    }
+    _mapId = 0;
     _results->clear();
     _dials->resetRound();
   });
@@ -154,7 +162,9 @@ void MainWindow::wireAnalysis() {
     }
   });
   connect(_service, &AnalysisService::failureMapReady, this,
-          [this](RequestId, const FailureMapPtr& map) {
+          [this](RequestId id, const FailureMapPtr& map) {
+            if (id != _mapId) return;  // a map of an earlier dispatch
+            _mapId = 0;
             _results->mapView()->setMap(*map);
             showStatus(tr("Failure map: %1 simulations in %2 s")
                            .arg(map->sims)
@@ -176,7 +186,7 @@ void MainWindow::wireAnalysis() {
       if (id == _solveId) _solveDone = true;
       if (id == _analyzeId) _analyzeDone = true;
       _dispatchOk = false;
-      _dispatchMessage = tr("Cancelled");
+      _dispatchMessage = _cancelReason.isEmpty() ? tr("Cancelled") : _cancelReason;
       maybeFinishDispatch();
     }
   });
@@ -195,7 +205,7 @@ void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze, bool
   _analyzeDone = !analyze;
   _analyzeId = analyze ? _service->analyze(_document->pallet()) : 0;
   // The failure map comes last (the slowest); the dispatch does not wait for it.
-  if (map) _service->failureMap(_document->pallet());
+  _mapId = map ? _service->failureMap(_document->pallet()) : 0;
   _cancel->setEnabled(true);
 }
 

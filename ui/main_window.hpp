@@ -84,6 +84,8 @@ class MainWindow : public QMainWindow {
 
   // The dispatch in flight: its solve and (optional) analysis requests.
   RequestId _solveId = 0, _analyzeId = 0;
+  RequestId _mapId = 0;   ///< the failure map of the latest dispatch, until it arrives
+  QString _cancelReason;  ///< why requests are being cancelled, while they are
   bool _solveDone = true, _analyzeDone = true, _dispatchOk = true;
   QString _dispatchMessage;
 };

@@ -16,10 +16,12 @@
 #include <QtCharts/QLineSeries>
 
 #include "core/scenario.hpp"
+#include "ui/failure_map_view.hpp"
 #include "ui/main_window.hpp"
 #include "ui/pallet_document.hpp"
 #include "ui/replay_panel.hpp"
 #include "ui/replay_player.hpp"
+#include "ui/results_panel.hpp"
 #include "ui/trace_plots.hpp"
 
 using pb::ui::MainWindow;
@@ -71,6 +73,38 @@ class TestMainWindow : public QObject {
     // A frame PNG without OpenGL is the message itself, not a crash.
     QTemporaryDir dir;
     QCOMPARE(replay->exportFramePng(dir.filePath(QStringLiteral("frame.png"))), QString());
+  }
+
+  // A result is shown only for the pallet it was computed for: a failure map still computing
+  // when the pallet changes is stopped and never appears under the new one; a map computed once
+  // is answered from the cache on the next dispatch of the same pallet (no simulation).
+  void noMapOfThePreviousPalletAndMapsAreCached() {
+    MainWindow window;
+    window.resize(1400, 900);
+    QVERIFY(window.loadScenario(QStringLiteral("frozen-pallet-jerk-start")));  // a 13-30 s map
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    QSignalSpy maps(window.service(), &pb::ui::AnalysisService::failureMapReady);
+    QSignalSpy progress(window.service(), &pb::ui::AnalysisService::progress);
+    window.dispatch(pb::load_scenario("frozen-pallet-jerk-start")->suggested_profile, false, true);
+    QVERIFY(finished.wait(60000));  // the replay is there; the map is still being computed
+    QVERIFY(window.service()->pendingCount() > 0);
+    QVERIFY(window.loadScenario(QStringLiteral("stable-dairy-slab")));  // the pallet changes
+    QCOMPARE(window.service()->pendingCount(), 0);
+    QTest::qWait(200);
+    QCOMPARE(maps.count(), 0);
+    QVERIFY(!window.resultsPanel()->mapView()->hasGrid());
+
+    const auto slab = pb::load_scenario("stable-dairy-slab")->suggested_profile;
+    window.dispatch(slab, false, true);
+    QTRY_VERIFY_WITH_TIMEOUT(window.resultsPanel()->mapView()->hasGrid(), 60000);
+    QCOMPARE(maps.count(), 1);
+    progress.clear();
+    window.dispatch(slab, false, true);
+    QTRY_COMPARE_WITH_TIMEOUT(maps.count(), 2, 60000);
+    QVERIFY(window.resultsPanel()->mapView()->hasGrid());
+    for (const auto& p : progress) {
+      QVERIFY(!p.at(1).toString().contains(QStringLiteral("Mapping")));  // from the cache
+    }
   }
 
   void replayFilesRoundTripAndBadOnesAreExplained() {
