@@ -54,6 +54,24 @@ std::vector<int> items_of(const Measure& m) {
 
 }  // namespace
 
+std::string_view mode_words(FailureMode mode) {
+  switch (mode) {
+    case FailureMode::no_failure:
+      return "nothing fails in range";
+    case FailureMode::tip_over:
+      return "the load tips over";
+    case FailureMode::top_item_slide:
+      return "an item slides off";
+    case FailureMode::pallet_slip:
+      return "the pallet slips on the belt";
+    case FailureMode::load_shift:
+      return "the load shifts inside";
+    case FailureMode::cannot_stand:
+      return "the load cannot stand (a build defect)";
+  }
+  return "an unknown failure";
+}
+
 std::string describe(const FailureEvent& event) {
   const std::string head =
       std::string(to_string(event.mode)) + format(" at %.3f s: ", event.time_s);

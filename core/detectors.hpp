@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/enums.hpp"
@@ -31,6 +32,10 @@ struct FailureEvent {
 
   bool operator==(const FailureEvent&) const = default;
 };
+
+/// A failure mode in a supervisor's words ("the load tips over", "an item slides off"), never an
+/// identifier: what every panel and every sentence meant for a person says.
+std::string_view mode_words(FailureMode mode);
 
 /// One line for a person: "top_item_slide at 0.412 s: item 7 moved 5.1 cm on the pallet".
 std::string describe(const FailureEvent& event);

@@ -656,18 +656,23 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.dominant_failure_mode = floor_axis->axis->mode;
     r.margin_pct = 0.0;
     r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
-               floor_axis->name + " tried (" + std::string(to_string(floor_axis->axis->mode)) +
+               floor_axis->name + " tried (" + std::string(mode_words(floor_axis->axis->mode)) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {
     r.verdict = "ok";
     std::ostringstream why;
-    why << "Start-up to " << fixed(r.max_accel_mps2, 1) << " m/s^2"
+    const std::string governed = r.speed_governed_by == "estop"   ? "set by the line's e-stop"
+                                 : r.speed_governed_by == "curve" ? "set by the tightest curve"
+                                                                  : "the top of the search range";
+    why << "Start-up to " << fixed(s.speed_max_mps, 1) << " m/s at up to "
+        << fixed(r.max_accel_mps2, 1) << " m/s^2"
         << (env.accel.at_ceiling ? " (the top of the range)"
-                                 : " (then " + std::string(to_string(r.accel_mode)) + ")")
-        << "; stops from " << fixed(s.speed_max_mps, 1) << " m/s to " << fixed(r.max_decel_mps2, 1)
-        << " m/s^2; curves to " << fixed(r.max_lateral_g, 2) << " g; with a "
+                                 : " (above it, " + std::string(mode_words(r.accel_mode)) + ")")
+        << "; stops from " << fixed(s.speed_max_mps, 1) << " m/s at up to "
+        << fixed(r.max_decel_mps2, 1) << " m/s^2; curves up to " << fixed(r.max_lateral_g, 2)
+        << " g. Speed " << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
         << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
-        << " m curves: " << fixed(r.max_speed_mps, 2) << " m/s (" << r.speed_governed_by << ").";
+        << " m curves).";
     r.reason = why.str();
   }
 }

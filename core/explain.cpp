@@ -36,15 +36,16 @@ bool lateral(const ConveyorProfile& p) {
   return p.shape == ProfileShape::curve;
 }
 
-/// "top item 7" when the item's top is the highest of the load, else "item 7".
+/// "top item 8" when the item's top is the highest of the load, else "item 8": numbered from 1,
+/// as the stack builder shows them (index 7 is item 8).
 std::string item_name(const PalletConfig& config, int index) {
   if (index < 0 || index >= static_cast<int>(config.items.size())) {
-    return "item " + std::to_string(index);
+    return "item " + std::to_string(index + 1);
   }
   double top = 0.0;
   for (const Item& it : config.items) top = std::max(top, it.top_z());
   const bool is_top = config.items[static_cast<std::size_t>(index)].top_z() >= top - kTouch;
-  return (is_top ? "top item " : "item ") + std::to_string(index);
+  return (is_top ? "top item " : "item ") + std::to_string(index + 1);
 }
 
 /// The weakest quasi-static mechanism of `mode` (and `item`, if >= 0) in the profile's direction.
@@ -186,7 +187,8 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
     case FailureMode::load_shift: {
       std::string who = "the load";
       if (event.items.size() == 2) {
-        who = "items " + std::to_string(event.items[0]) + " and " + std::to_string(event.items[1]);
+        who = "items " + std::to_string(event.items[0] + 1) + " and " +
+              std::to_string(event.items[1] + 1);
       }
       return "The load shifted inside" + when + ": " + who + " moved " +
              fixed(100.0 * event.value, 1) + " cm apart under " + demand_phrase(profile, demand) +

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "core/conveyor_profile.hpp"
 #include "core/detectors.hpp"

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/detectors.hpp"
+
 namespace pb::ui {
 
 DialZone dial_zone(double value, double limit) {
@@ -52,7 +54,7 @@ DialScore score_dispatch(const ConveyorProfile& dialled, bool survived, FailureM
     s.verdict = DialScore::Verdict::crashed;
     s.grade = 'F';
     s.failure_mode = mode;
-    s.headline = "Crashed (" + std::string(to_string(mode)) + "): you're buying yogurt";
+    s.headline = "The dispatch failed: " + std::string(mode_words(mode));
     return s;
   }
   s.points = percent(s.fraction);

@@ -245,7 +245,9 @@ void DialPanel::refresh() {
   _limits->setText(tr("Solver's limits: %1 m/s, %2 m/s² start-up")
                        .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2)));
   const DialScore score = *_game.score();
-  _status->setText(tr("%1 — grade %2, %3 points")
+  // The dispatch's score, not the pallet's grade (the results panel grades the pallet against the
+  // fixed table): how close the dialled motion came to the limits without crashing.
+  _status->setText(tr("%1 — your dispatch scores %2 (%3 points)")
                        .arg(QString::fromStdString(score.headline), QChar::fromLatin1(score.grade))
                        .arg(score.points));
   if (!_announced) {

@@ -18,23 +18,10 @@ QString num(double v, int decimals) {
   return QString::number(v, 'f', decimals);
 }
 
-/// A failure mode in a supervisor's words.
+/// A failure mode in a supervisor's words (core/detectors.hpp).
 QString modeWords(FailureMode mode) {
-  switch (mode) {
-    case FailureMode::no_failure:
-      return QObject::tr("nothing fails in range");
-    case FailureMode::tip_over:
-      return QObject::tr("the load tips over");
-    case FailureMode::top_item_slide:
-      return QObject::tr("an item slides off");
-    case FailureMode::pallet_slip:
-      return QObject::tr("the pallet slips on the belt");
-    case FailureMode::load_shift:
-      return QObject::tr("the load shifts inside");
-    case FailureMode::cannot_stand:
-      return QObject::tr("the load cannot stand (a build defect)");
-  }
-  return {};
+  return QString::fromUtf8(pb::mode_words(mode).data(),
+                           static_cast<qsizetype>(pb::mode_words(mode).size()));
 }
 
 /// What set the speed limit, in words ("estop" -> "the line's e-stop").
@@ -110,10 +97,18 @@ void ResultsPanel::showError(const QString& message) {
 
 void ResultsPanel::setResult(const SafetyResult& r) {
   const Grade g = grade(r);
+  // A build defect has no limits to compare with the table, so it gets no comparison line.
+  const QString basis =
+      r.dominant_failure_mode == FailureMode::cannot_stand
+          ? QString()
+          : QStringLiteral("<br><small>%1</small>")
+                .arg(tr("The grade compares this pallet with the fixed table the line runs "
+                        "today: %1 m/s, start-up %2 m/s².")
+                         .arg(num(kTableSpeedMps, 1), num(kTableAccelMps2, 1)));
   _grade->setText(QStringLiteral("<span style='font-size:20pt; color:%1'><b>%2</b></span> "
-                                 "<span style='font-size:14pt'><b>%3</b></span><br>%4")
+                                 "<span style='font-size:14pt'><b>%3</b></span><br>%4%5")
                       .arg(gradeColor(g.letter).name(), QString(QChar::fromLatin1(g.letter)),
-                           q(g.label).toHtmlEscaped(), q(g.advice).toHtmlEscaped()));
+                           q(g.label).toHtmlEscaped(), q(g.advice).toHtmlEscaped(), basis));
   if (r.dominant_failure_mode == FailureMode::cannot_stand) {
     _limits->setText(
         tr("<b>Build defect:</b> the load cannot stand on a still belt, so no "
@@ -125,11 +120,12 @@ void ResultsPanel::setResult(const SafetyResult& r) {
     _limits->setText(
         tr("Speed up to <b>%1 m/s</b> (set by %2) · start-up up to <b>%3 m/s²</b> · stops "
            "up to <b>%4 m/s²</b> · curves up to <b>%5 g</b><br>First to go: <b>%6</b> · margin "
-           "%7 % · %8 simulations")
+           "%7 % · %8")
             .arg(num(r.max_speed_mps, 2), governorWords(r.speed_governed_by),
                  num(r.max_accel_mps2, 1), num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
                  modeWords(r.dominant_failure_mode), num(r.margin_pct, 0))
-            .arg(r.sims_run));
+            .arg(r.sims_run > 0 ? tr("%1 simulations").arg(r.sims_run)
+                                : tr("cached: this pallet was analysed before")));
   }
   _reason->setText(q(r.reason));
 }

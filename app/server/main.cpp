@@ -6,6 +6,8 @@
 #include <signal.h>
 #include <CLI/CLI.hpp>
 
+#include <atomic>
+#include <chrono>
 #include <iostream>
 #include <sstream>
 #include <thread>
@@ -150,16 +152,24 @@ int main(int argc, char** argv) {
     std::cerr << "palletballet-server: " << error << "\n";
     return 1;
   }
+  // A signal can arrive before listen() is running, when cpp-httplib's stop() does nothing: the
+  // waiter asks again until listen() has returned.
+  std::atomic<bool> finished{false};
   std::thread waiter([&] {
     int sig = 0;
     sigwait(&signals, &sig);
+    if (finished) return;
     std::cerr << "palletballet-server: stopping\n";
-    server.stop();
+    while (!finished) {
+      server.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
   });
   std::cout << "palletballet-server " << PB_VERSION << " listening on http://" << http.host << ":"
             << server.port() << " (" << service.pool.analyzers << " analyzers)" << std::endl;
   server.listen();
-  pthread_kill(waiter.native_handle(), SIGTERM);  // no-op if it has already returned
+  finished = true;
+  pthread_kill(waiter.native_handle(), SIGTERM);  // wakes the waiter if no signal came
   waiter.join();
   return 0;
 }

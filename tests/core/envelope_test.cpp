@@ -309,7 +309,7 @@ class EnvelopeTest : public QObject {
     QCOMPARE(r.margin_pct, 0.0);
     QCOMPARE(r.speed_governed_by, std::string("reject"));
     QVERIFY2(r.reason.starts_with("Reject: unsafe at any motion; it fails at the gentlest start-up "
-                                  "tried (top_item_slide)."),
+                                  "tried (an item slides off)."),
              r.reason.c_str());
     // Stopped from 0.1 m/s by the line's 2 m/s^2 e-stop, the carton slides
     // v^2 / 2 (1 / (mu g) - 1 / d) = 9.9 cm: the e-stop axis fails at its floor too.

@@ -125,7 +125,7 @@ class TestDialPanel : public QObject {
     QVERIFY(!panel.game().revealed());  // the envelope has not arrived
     panel.setEnvelope(envelope());
     QVERIFY(panel.game().revealed());
-    QVERIFY(panel.statusText().contains(QStringLiteral("Crashed")));
+    QVERIFY(panel.statusText().contains(QStringLiteral("The dispatch failed")));
   }
 };
 
