@@ -115,11 +115,44 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
       });
     }
   }
+  if (options_.symmetry_reduction && options_.fidelity == Fidelity::automatic &&
+      choice.level == Fidelity::full && !prepared->rest.cannot_stand) {
+    const SceneOptions so = options_for(choice);
+    prepared->planes[0] = plane_model(config, ProbePlane::along, so);
+    prepared->planes[1] = plane_model(config, ProbePlane::across, so);
+    for (std::size_t i = 0; i < 2; ++i) {
+      if (!prepared->planes[i]) continue;
+      choice.why += std::string(i == 0 ? "; along the belt " : "; across it ") +
+                    std::to_string(prepared->planes[i]->reduction.config.items.size()) +
+                    " items stand for " + std::to_string(config.items.size()) + " (" +
+                    std::to_string(prepared->planes[i]->reduction.copies) +
+                    " identical copies side by side)";
+    }
+  }
   prepared->fidelity = std::move(choice);
   prepared->prepare_ms = ms_since(start);
   PreparedPallet* out = prepared.get();
   prepared_.emplace(key, std::move(prepared));
   return Result<PreparedPallet*>{out, std::move(scene.diagnostics)};
+}
+
+std::unique_ptr<PlaneModel> Analyzer::plane_model(const PalletConfig& config, ProbePlane plane,
+                                                  const SceneOptions& scene_options) {
+  auto reduction = reduce_symmetric_stacks(config, plane);
+  if (!reduction) return nullptr;
+  auto model = std::make_unique<PlaneModel>();
+  model->reduction = std::move(*reduction);
+  auto scene = build_scene(model->reduction.config, scene_options, *friction_);
+  if (!scene) return nullptr;
+  model->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto simulator = Simulator::create(*model->scene);
+  if (!simulator) return nullptr;
+  model->simulator = std::make_unique<Simulator>(std::move(*simulator.value));
+  auto rest = model->simulator->settle(options_.settle, options_.sim.thresholds);
+  // A reduced load that does not come to rest where the whole one did is no stand-in for it.
+  if (!rest || rest.value->cannot_stand) return nullptr;
+  model->rest = std::move(*rest.value);
+  return model;
 }
 
 void Analyzer::set_cancel(const CancelFlag* flag) {
@@ -165,12 +198,17 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     results_.insert_or_assign(p.fingerprint, env.result);
     return Result<Envelope>{std::move(env), {}};
   }
-  auto env =
-      search_envelope(*p.simulator, p.rest, p.bounds, options_.line, options_.search, options_.sim);
+  auto model = [&](std::size_t plane) {
+    const PlaneModel* m = p.planes[plane].get();
+    return m ? ProbeModel{m->simulator.get(), &m->rest} : ProbeModel{p.simulator.get(), &p.rest};
+  };
+  auto env = search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search,
+                             options_.sim);
   if (!env) {
     if (grow_buffers(p.fingerprint, env.diagnostics)) return envelope(config);
     return env;
   }
+  env->rest = p.rest;  // the whole load's, whatever model the probes ran on
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
   env->result.fidelity = std::string(to_string(p.fidelity.level));

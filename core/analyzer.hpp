@@ -3,6 +3,7 @@
 // scenes, rest states and results cached by the fingerprint of the physically relevant fields.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "core/replay.hpp"
 #include "core/scene.hpp"
 #include "core/simulate.hpp"
+#include "core/symmetry.hpp"
 #include "core/uncertainty.hpp"
 
 namespace pb {
@@ -39,10 +41,23 @@ struct AnalyzerOptions {
   /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
   /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
   UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
+  /// Where the automatic level is the full model, a load of identical stacks side by side across a
+  /// probe's plane is searched on one copy of each (symmetry.hpp: reduce_symmetric_stacks), per
+  /// plane; solves, maps and confidence still run every item. Off for an explicitly requested
+  /// level and for the reference configurations.
+  bool symmetry_reduction = true;
 };
 
 /// How long Analyzer::solve follows a failure at most (SimOptions::follow_failure_s).
 inline constexpr double kSolveAftermathS = 3.0;
+
+/// A symmetry-reduced model of a pallet for the probes of one plane, compiled and settled.
+struct PlaneModel {
+  LoadReduction reduction;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Simulator> simulator;
+  RestState rest;
+};
 
 /// A compiled, settled pallet: everything a probe needs.
 struct PreparedPallet {
@@ -53,6 +68,9 @@ struct PreparedPallet {
   QuasiStaticBounds bounds;
   FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
   double prepare_ms = 0.0;  ///< compile + settle wall time
+  /// The envelope searches' models along the belt and across it ([0], [1]) where the load reduces
+  /// by symmetry (AnalyzerOptions::symmetry_reduction); null: the probes run on `scene`.
+  std::array<std::unique_ptr<PlaneModel>, 2> planes;
   /// The same scene with whatever touches colliding (SceneOptions::aftermath), compiled the first
   /// time a solve fails, to follow the wreck; `aftermath_problem` says why there is none.
   std::unique_ptr<Scene> aftermath_scene;
@@ -109,6 +127,11 @@ class Analyzer {
   /// The scene numerics of a model level (merge for reduced and clustered; the full model's own
   /// timestep wherever an item is free).
   SceneOptions scene_options_for(const FidelityChoice& choice) const;
+
+  /// The symmetry-reduced model of `config` for `plane` (PreparedPallet::planes), or null when
+  /// the load does not reduce or the reduced model cannot be settled (the full model then runs).
+  std::unique_ptr<PlaneModel> plane_model(const PalletConfig& config, ProbePlane plane,
+                                          const SceneOptions& scene_options);
 
   /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops
   /// its prepared scene and says to run again; false when `why` is something else or the buffers

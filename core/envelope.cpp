@@ -11,6 +11,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -441,9 +442,18 @@ int resolved_threads(int requested) {
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& s, const SimOptions& sim_options) {
+  const ProbeModel model{&simulator, &rest};
+  return search_envelope(model, model, simulator.scene().config, bounds, line, s, sim_options);
+}
+
+Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel& across_model,
+                                 const PalletConfig& config, const QuasiStaticBounds& bounds,
+                                 const LineDescription& line, const SearchConfig& s,
+                                 const SimOptions& sim_options) {
   const auto start = std::chrono::steady_clock::now();
   Envelope env;
-  env.rest = rest;
+  env.rest = *along_model.rest;
+  auto model_of = [&](Axis axis) { return axis == Axis::lateral ? across_model : along_model; };
   SimOptions o = sim_options;
   o.record_trace = false;
   o.fail_fast = true;
@@ -504,7 +514,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
   const bool mirror = s.derive_axes && s.accel_min_mps2 == s.decel_min_mps2 &&
                       s.accel_max_mps2 == s.decel_max_mps2 &&
                       s.accel_precision_mps2 == s.decel_precision_mps2 &&
-                      mirror_symmetric_along(simulator.scene().config);
+                      mirror_symmetric_along(config);
   const bool from_stop = s.derive_axes && line.estop_decel_mps2 >= s.decel_min_mps2 &&
                          line.estop_decel_mps2 <= s.decel_max_mps2;
   std::vector<std::size_t> order;
@@ -513,29 +523,50 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
       order.push_back(i);
     }
   }
-  const int fit = std::max(1, int(s.axis_memory_bytes / std::max(1.0, simulator.data_bytes())));
+  // Runs axis task i on its plane's model (serially, on the model's own simulator).
+  auto search = [&](std::size_t i) {
+    const ProbeModel m = model_of(tasks[i].axis);
+    return search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k);
+  };
+  const double data_bytes =
+      std::max({1.0, along_model.simulator->data_bytes(), across_model.simulator->data_bytes()});
+  const int fit = std::max(1, int(s.axis_memory_bytes / data_bytes));
   const int threads = std::min(
       fit, s.axis_threads == 0 ? int(order.size()) : std::min(s.axis_threads, int(order.size())));
   if (threads <= 1) {
     for (std::size_t i : order) {
-      outcomes[i] = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k);
+      outcomes[i] = search(i);
       if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
     }
   } else {
-    // Axes are independent: each worker takes the next axis on its own mjData (a probe loads the
-    // whole rest state, so it is bitwise the probe the serial search runs).
-    std::vector<std::unique_ptr<Simulator>> extra;
-    for (int w = 1; w < threads; ++w) {
-      auto created = Simulator::create(simulator.scene());
-      if (!created) return Result<Envelope>::failure(std::move(created.diagnostics));
-      extra.push_back(std::make_unique<Simulator>(std::move(*created.value)));
-    }
+    // Axes are independent: each worker takes the next axis on an mjData of its own for that
+    // axis's model (a probe loads the whole rest state, so it is bitwise the probe the serial
+    // search runs). The calling thread uses the models' simulators; the others make theirs.
     std::atomic<std::size_t> next{0};
-    auto work = [&](Simulator& sim) {
+    auto work = [&](bool caller) {
+      std::map<const Scene*, std::unique_ptr<Simulator>> own;
       for (std::size_t n = next++; n < order.size(); n = next++) {
         const std::size_t i = order[n];
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
-          outcomes[i] = search_axis(tasks[i], sim, rest, o, s.seed_with_closed_form, k);
+          const ProbeModel m = model_of(tasks[i].axis);
+          Simulator* sim = m.simulator;
+          if (!caller) {
+            auto& mine = own[&m.simulator->scene()];
+            if (!mine) {
+              auto created = Simulator::create(m.simulator->scene());
+              if (!created) {
+                outcomes[i] = {};
+                outcomes[i].error =
+                    std::string(to_string(tasks[i].axis)) + " search: " +
+                    (created.diagnostics.empty() ? std::string("no simulation data")
+                                                 : created.diagnostics.front().message);
+                continue;
+              }
+              mine = std::make_unique<Simulator>(std::move(*created.value));
+            }
+            sim = mine.get();
+          }
+          outcomes[i] = search_axis(tasks[i], *sim, *m.rest, o, s.seed_with_closed_form, k);
         } catch (const std::exception& e) {
           outcomes[i] = {};
           outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
@@ -543,8 +574,8 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
       }
     };
     std::vector<std::thread> pool;
-    for (auto& sim : extra) pool.emplace_back(work, std::ref(*sim));
-    work(simulator);
+    for (int w = 1; w < threads; ++w) pool.emplace_back(work, false);
+    work(true);
     for (auto& t : pool) t.join();
   }
   AxisOutcome& up = outcomes[0];
@@ -560,7 +591,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
       down.limit->probes = 0;
       down.limit->derived = true;
     } else {
-      down = search_axis(tasks[1], simulator, rest, o, s.seed_with_closed_form, k);
+      down = search(1);
     }
   }
   if (from_stop && down.limit && outcomes[2].limit) {
@@ -571,7 +602,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
       estop.limit->closed_form = tasks[3].closed_form;
       estop.limit->derived = true;
     } else {
-      estop = search_axis(tasks[3], simulator, rest, o, s.seed_with_closed_form, k);
+      estop = search(3);
     }
   }
   // Probes in axis order whatever the threads did; the first axis in that order that failed names

@@ -153,6 +153,20 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line = {},
                                  const SearchConfig& search = {}, const SimOptions& sim = {});
 
+/// A settled model the probes of one plane run on.
+struct ProbeModel {
+  Simulator* simulator = nullptr;
+  const RestState* rest = nullptr;
+};
+
+/// The same search with the probes along the belt (start-up, stop, e-stop speed) on `along` and
+/// the curve's on `across`: a load with symmetric copies is simulated on a reduced model per plane
+/// (symmetry.hpp). `bounds` and the mirror test are those of `config`, the whole load.
+Result<Envelope> search_envelope(const ProbeModel& along, const ProbeModel& across,
+                                 const PalletConfig& config, const QuasiStaticBounds& bounds,
+                                 const LineDescription& line, const SearchConfig& search,
+                                 const SimOptions& sim);
+
 /// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
 /// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance
 /// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". An
