@@ -494,7 +494,8 @@ std::vector<Command> physics_commands() {
         "[--hz HZ]",
         "Simulate one conveyor profile from rest and print the outcome, the first failure and "
         "the run's statistics. A failed run is followed past its failure (the wreck, up to 3 s, "
-        "until the load moves with the belt again), so its replay shows the pallet going over. Without --speed and --accel a scenario's suggested profile is run "
+        "until the load moves with the belt again), so its replay shows the pallet going over. "
+        "Without --speed and --accel a scenario's suggested profile is run "
         "(the other flags still override its fields). Exit 0 for a safe or failed outcome, 2 for "
         "bad input, 1 when the simulation became unstable. " +
             file,
@@ -551,7 +552,9 @@ std::vector<Command> physics_commands() {
         "m/s: ref_ms, and ratio = ref_ms / envelope_ms). A table by default. 'bench scale' "
         "analyses unwrapped pallets of about --sizes cartons (12 a layer of 0.30 x 0.25 x 0.20 m "
         "dairy cases; column and brick), each in a child process: items, degrees of freedom, "
-        "contacts at rest, microseconds per step, simulations, envelope ms and the child's peak "
+        "contacts at rest, the items its searches simulate along the belt / across it (one copy of "
+        "each group of identical stacks), microseconds per step, simulations, envelope ms and "
+        "the child's peak "
         "resident memory. 'bench batch' is the batch engine's scaling "
         "table instead: simulation-steps per second of a serial mj_step loop and of the batch "
         "at each thread count and nstep, on one curated pallet (default stable-dairy-slab) "

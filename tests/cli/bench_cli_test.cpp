@@ -57,6 +57,9 @@ class BenchCliTest : public QObject {
     QVERIFY(num(o, "peak_rss_mb") > 0.0);
     QVERIFY(num(o, "us_per_step") > 0.0 && num(o, "envelope_ms") > 0.0);
     QVERIFY(o.value("sims").toInt() > 0);
+    // Twelve two-high columns, 4 along X x 3 across: the searches simulate one row of each.
+    QCOMPARE(o.value("searched_items_along").toInt(), items / 3);
+    QCOMPARE(o.value("searched_items_across").toInt(), items / 4);
   }
 
   void scaleBadInput() {
