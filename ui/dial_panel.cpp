@@ -200,6 +200,7 @@ void DialPanel::dispatch() {
   const ConveyorProfile p = profile();
   _game.dispatch(p);
   _announced = false;
+  _refused.clear();
   refresh();
   emit dispatchRequested(p);
 }
@@ -222,6 +223,14 @@ void DialPanel::replayFinished() {
 void DialPanel::resetRound() {
   _game = DialGame{};
   _announced = false;
+  _refused.clear();
+  refresh();
+}
+
+void DialPanel::refuseDispatch(const QString& why) {
+  _game = DialGame{};
+  _announced = false;
+  _refused = why;
   refresh();
 }
 
@@ -237,7 +246,8 @@ void DialPanel::refresh() {
     _limits->clear();
     _status->setText(_game.dispatched()
                          ? tr("Dispatched. The solver's envelope is revealed when the replay ends.")
-                         : tr("Dial a speed and a start-up, then Dispatch."));
+                     : !_refused.isEmpty() ? _refused
+                                           : tr("Dial a speed and a start-up, then Dispatch."));
     return;
   }
   _speedDial->setLimit(envelope->max_speed_mps);

@@ -93,6 +93,9 @@ class DialPanel : public QWidget {
   void revealEnvelope() { replayFinished(); }
   /// Forgets the round and hides the envelope (e.g. the pallet changed).
   void resetRound();
+  /// The dispatch was refused (an invalid pallet): the round is off and the status says `why`
+  /// until the next dispatch or reset.
+  void refuseDispatch(const QString& why);
 
  signals:
   void dispatchRequested(const pb::ConveyorProfile& profile);
@@ -104,6 +107,7 @@ class DialPanel : public QWidget {
 
   DialGame _game;
   bool _announced = false;  ///< scoreRevealed emitted for this round
+  QString _refused;         ///< why the last dispatch was refused; empty otherwise
   double _speed = -1.0;     ///< last values announced by dialsChanged
   double _accel = -1.0;
   EnvelopeDial* _speedDial;

@@ -11,6 +11,7 @@
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
+#include <algorithm>
 
 #include "core/scenario.hpp"
 #include "ui/dial_panel.hpp"
@@ -23,6 +24,7 @@
 #include "ui/replay_player.hpp"
 #include "ui/results_panel.hpp"
 #include "ui/scenario_picker.hpp"
+#include "ui/stack_builder_model.hpp"
 #include "ui/stack_builder_panel.hpp"
 #include "ui/trace_plots.hpp"
 
@@ -197,6 +199,20 @@ bool MainWindow::loadScenario(const QString& slug) {
 }
 
 void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze, bool map) {
+  if (!_document->isValid()) {  // nothing is simulated for a pallet validation refuses
+    const pb::PalletConfig& pallet = _document->pallet();
+    const auto& diagnostics = _document->diagnostics();
+    const auto first = std::find_if(diagnostics.begin(), diagnostics.end(), [](const auto& d) {
+      return d.severity == pb::Severity::error;
+    });
+    const QString why =
+        tr("Not dispatched: the pallet is not valid. %1 (see the stack builder's findings)")
+            .arg(describe_finding(*first, stacks_of(pallet)));
+    _dials->refuseDispatch(why);
+    showStatus(why);
+    emit dispatchFinished(false, why);
+    return;
+  }
   _service->cancelAll();
   _dispatchOk = true;
   _dispatchMessage.clear();

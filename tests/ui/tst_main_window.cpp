@@ -16,6 +16,7 @@
 #include <QtCharts/QLineSeries>
 
 #include "core/scenario.hpp"
+#include "ui/dial_panel.hpp"
 #include "ui/failure_map_view.hpp"
 #include "ui/main_window.hpp"
 #include "ui/pallet_document.hpp"
@@ -105,6 +106,27 @@ class TestMainWindow : public QObject {
     for (const auto& p : progress) {
       QVERIFY(!p.at(1).toString().contains(QStringLiteral("Mapping")));  // from the cache
     }
+  }
+
+  // A pallet validation refuses is not dispatched: nothing is simulated, and the dial panel and
+  // the status bar say why, in the stack builder's words (stacks counted from 1).
+  void anInvalidPalletIsNotDispatched() {
+    MainWindow window;
+    pb::PalletConfig bad = pb::load_scenario("tall-unwrapped-tower")->pallet;
+    bad.items[3].weight_kg = -5.0;  // a negative mass: an error at /items/3/weight_kg
+    QVERIFY(window.document()->replacePallet(bad, QStringLiteral("Bad mass")));
+    QVERIFY(!window.document()->isValid());
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dialPanel()->dispatch();
+    QCOMPARE(finished.count(), 1);
+    QCOMPARE(finished.at(0).at(0).toBool(), false);
+    const QString why = finished.at(0).at(1).toString();
+    QVERIFY2(why.startsWith(QStringLiteral("Not dispatched")), qPrintable(why));
+    QVERIFY2(why.contains(QStringLiteral("Stack 1")), qPrintable(why));
+    QVERIFY2(!why.contains(QStringLiteral("/items")), qPrintable(why));
+    QCOMPARE(window.service()->pendingCount(), 0);
+    QCOMPARE(window.dialPanel()->statusText(), why);
+    QVERIFY(!window.dialPanel()->game().dispatched());
   }
 
   void replayFilesRoundTripAndBadOnesAreExplained() {
