@@ -87,21 +87,35 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
                            fixed(mu, 2) + ")",
                        static_cast<int>(i)});
     }
-    // The sub-stack item i carries, directly or not, tips over item i's bottom edge.
+    // The sub-stack item i carries tips over item i's bottom edge: i and whatever rests on it
+    // alone, directly or not. An item that also rests on something outside (a brick bridging two
+    // cartons) is held there and does not go over with i: counted in, a bricked layer made the
+    // whole slab above an end carton one body leaning on it (a 0.19 m/s^2 onset for 48 dairy
+    // cases that stand to 3.1 m/s^2), and every search of such a load walked up from near zero.
     std::vector<bool> in(n, false);
-    std::vector<std::size_t> todo{i};
+    in[i] = true;
+    std::vector<std::size_t> members{i};
+    for (bool grew = true; grew;) {  // until no item rests on the sub-stack alone
+      grew = false;
+      for (std::size_t m = 0; m < members.size(); ++m) {
+        for (std::size_t j : carries[members[m]]) {
+          if (in[j] || !std::all_of(below[j].begin(), below[j].end(),
+                                    [&](std::size_t b) { return in[b]; })) {
+            continue;
+          }
+          in[j] = true;
+          members.push_back(j);
+          grew = true;
+        }
+      }
+    }
     double mass = 0.0, moment_x = 0.0, moment_y = 0.0, moment_z = 0.0;
-    while (!todo.empty()) {
-      const std::size_t k = todo.back();
-      todo.pop_back();
-      if (in[k]) continue;
-      in[k] = true;
+    for (std::size_t k : members) {
       const Vec3 c = items[k].center_of_mass();
       mass += items[k].weight_kg;
       moment_x += items[k].weight_kg * c[0];
       moment_y += items[k].weight_kg * c[1];
       moment_z += items[k].weight_kg * c[2];
-      for (std::size_t j : carries[k]) todo.push_back(j);
     }
     const double h = moment_z / mass - item.position[2];
     const auto half = half_extents(item);
