@@ -4,9 +4,9 @@
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
 // only (about two minutes on 2 cores). Pinned at what was measured when the corpus was re-made
-// of loads that can stand (2026-11-24, issue 12): 89 of the 96 limits (93 %) within one search
-// step, 1 more than one step above the reference (u2048's curve, +1.2 steps; the corpus README).
-// Labelled long.
+// of loads that can stand (2026-11-24, issue 12; again after issue 16's symmetry reduction): 89 of
+// the 96 limits (93 %) within one search step, 1 more than one step above the reference (u2048's
+// curve, +1.2 steps; the corpus README). Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
