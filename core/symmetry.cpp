@@ -121,14 +121,18 @@ std::optional<LoadReduction> reduce_symmetric_stacks(const PalletConfig& config,
   r.config.items.clear();
   r.config.base_mass_kg = config.base_mass_kg / double(copies);
   r.copies = int(copies);
-  // The kept stack of each group is its first (by item index), where it stands: moved to the
-  // group's mean it sat on another part of the deck than any stack of the load, and MuJoCo's
-  // box-box contacts there made its cartons slide less (4 two-high columns: a start-up limit 4.5
-  // search steps above the whole load's; kept in place, the same as the whole load's).
+  // The kept stack of each group is the one lowest across the plane (the first by item index
+  // among equals), where it stands: on a grid the kept stacks are one row, neighbours as in the
+  // load. Moved to the group's mean instead, a stack sat where no stack of the load stands, and
+  // MuJoCo's box-box contacts there made its cartons slide less (four two-high columns: a start-up
+  // limit 4.5 search steps above the whole load's; kept in place, 1.5 steps below it).
   std::vector<int> kept;
   for (const auto& [key, members] : groups) {
     const std::size_t s = *std::min_element(members.begin(), members.end(), [&](auto a, auto b) {
-      return stacks[a].items.front() < stacks[b].items.front();
+      const double ca = along ? stacks[a].y : stacks[a].x;
+      const double cb = along ? stacks[b].y : stacks[b].x;
+      return std::make_pair(um(ca), stacks[a].items.front()) <
+             std::make_pair(um(cb), stacks[b].items.front());
     });
     kept.insert(kept.end(), stacks[s].items.begin(), stacks[s].items.end());
   }

@@ -50,6 +50,19 @@ class SymmetryTest : public QObject {
     }
   }
 
+  // On a grid the kept stacks are one row, neighbours as in the load, whatever the items' order.
+  void theKeptStacksAreOneRow() {
+    const auto along = reduce_symmetric_stacks(
+        columns({{-0.2, 0.2}, {-0.2, -0.2}, {0.2, -0.2}, {0.2, 0.2}}), ProbePlane::along);
+    QVERIFY(along);
+    QCOMPARE(along->config.items.size(), std::size_t(4));
+    for (const Item& it : along->config.items) QCOMPARE(it.position[1], -0.2);
+    const auto across = reduce_symmetric_stacks(
+        columns({{0.2, 0.2}, {-0.2, -0.2}, {0.2, -0.2}, {-0.2, 0.2}}), ProbePlane::across);
+    QVERIFY(across);
+    for (const Item& it : across->config.items) QCOMPARE(it.position[0], -0.2);
+  }
+
   void whatDoesNotReduce() {
     // One column: nothing to share.
     QVERIFY(!reduce_symmetric_stacks(columns({{0.0, 0.0}}), ProbePlane::along));
