@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <limits>
+#include <numbers>
 #include <utility>
 
 namespace pb {
@@ -44,6 +45,22 @@ ReplayFrame sample(const Trace& trace, std::size_t j, double t) {
 }
 
 }  // namespace
+
+Replay as_built_replay(const PalletConfig& pallet) {
+  Replay r;
+  r.pallet = pallet;
+  ReplayFrame f;
+  f.pallet.pos = {0.0, 0.0, pallet.base_dims_m[2] / 2.0};
+  for (const Item& item : pallet.items) {
+    Pose p;
+    p.pos = {item.position[0], item.position[1], item.position[2] + item.dims_m[2] / 2.0};
+    const double half = item.orientation_deg * std::numbers::pi / 360.0;
+    p.quat = {std::cos(half), 0.0, 0.0, std::sin(half)};
+    f.items.push_back(p);
+  }
+  r.frames.push_back(std::move(f));
+  return r;
+}
 
 ReplayFrame frame_at(const Replay& replay, double t) {
   const auto& frames = replay.frames;

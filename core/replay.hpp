@@ -52,6 +52,11 @@ struct Replay {
 Replay make_replay(const Trace& trace, const PalletConfig& pallet, const ConveyorProfile& profile,
                    std::string outcome, std::optional<FailureEvent> failure, double hz = 30.0);
 
+/// The pallet as built, before any simulation: one frame at t = 0, the pallet on the belt and every
+/// item where the configuration puts it (box centres, turned by their yaw), outcome "safe", no
+/// profile run. What a view shows of a pallet being edited.
+Replay as_built_replay(const PalletConfig& pallet);
+
 /// The replay's state at time `t` (the player's cursor): positions and belt travel interpolated
 /// linearly and orientations by slerp (shortest arc) between the two frames around `t`; clamped to
 /// the first and last frames (returned exactly). No frames gives a default frame.

@@ -114,6 +114,8 @@ MainWindow::MainWindow(QWidget* parent)
     _mapId = 0;
     _results->clear();
     _dials->resetRound();
+    _replay->showPallet(_document->pallet());  // the pallet being edited, at rest
+    _traces->clear();
   });
   connect(_picker, &ScenarioPicker::scenarioLoaded, this, [this](const pb::Scenario& s) {
     _dials->setSpeed(s.suggested_profile.target_speed_mps);
@@ -134,6 +136,7 @@ MainWindow::MainWindow(QWidget* parent)
   wireAnalysis();
   buildMenus();
   _friction->setPallet(_document->pallet());
+  _replay->showPallet(_document->pallet());
   resize(1600, 1000);
 }
 

@@ -55,10 +55,20 @@ ReplayPanel::ReplayPanel(QWidget* parent) : QWidget(parent), _player(new ReplayP
 }
 
 void ReplayPanel::setReplay(const pb::Replay& replay) {
+  show(replay, false);
+}
+
+void ReplayPanel::showPallet(const pb::PalletConfig& pallet) {
+  show(pb::as_built_replay(pallet), true);
+}
+
+void ReplayPanel::show(const pb::Replay& replay, bool preview) {
   _replay = replay;
+  _preview = preview;
   if (_view != nullptr) _view->setReplay(_replay);
   _player->setReplay(_replay);
   _controls->refresh();
+  _controls->setEnabled(!preview);
   emit replayChanged();
 }
 

@@ -30,8 +30,13 @@ class ReplayPanel : public QWidget {
   explicit ReplayPanel(QWidget* parent = nullptr);
 
   void setReplay(const pb::Replay& replay);
+  /// Shows `pallet` as built, at rest (pb::as_built_replay), until the next replay: the pallet
+  /// being edited, not a simulation. No replay to play or export meanwhile.
+  void showPallet(const pb::PalletConfig& pallet);
   const pb::Replay& replay() const { return _replay; }
-  bool hasReplay() const { return !_replay.frames.empty(); }
+  /// A simulated replay is shown (not the as-built preview).
+  bool hasReplay() const { return !_preview && !_replay.frames.empty(); }
+  bool showsPreview() const { return _preview; }
 
   /// Reads a replay file (what `palletballet-cli solve --replay` and exportReplay write). Empty
   /// on success, else what is wrong, for a person (the current replay stays).
@@ -60,7 +65,10 @@ class ReplayPanel : public QWidget {
   void replayChanged();
 
  private:
+  void show(const pb::Replay& replay, bool preview);
+
   pb::Replay _replay;
+  bool _preview = false;
   ReplayView* _view = nullptr;
   QLabel* _noGl = nullptr;
   QString _glProblem;

@@ -78,6 +78,28 @@ class ReplayTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // The pallet as built: one frame at t = 0, box centres where the configuration puts the items,
+  // turned by their yaw; it writes and reads back like any replay.
+  void asBuiltReplayIsThePalletAtRest() {
+    PalletConfig c = pallet(2);
+    c.items[1].orientation_deg = 90.0;
+    const Replay r = as_built_replay(c);
+    QCOMPARE(r.frames.size(), std::size_t(1));
+    const ReplayFrame& f = r.frames[0];
+    QCOMPARE(f.t, 0.0);
+    QCOMPARE(f.pallet.pos[2], c.base_dims_m[2] / 2);
+    QCOMPARE(f.items.size(), c.items.size());
+    for (std::size_t i = 0; i < c.items.size(); ++i) {
+      QCOMPARE(f.items[i].pos[0], c.items[i].position[0]);
+      QCOMPARE(f.items[i].pos[2], c.items[i].position[2] + c.items[i].dims_m[2] / 2);
+    }
+    // 90 degrees about Z: the item's X axis along the world's Y.
+    const Vec3 x = rotate(f.items[1].quat, {1.0, 0.0, 0.0});
+    QVERIFY(std::abs(x[0]) < 1e-12 && std::abs(x[1] - 1.0) < 1e-12);
+    QCOMPARE(r.outcome, std::string("safe"));
+    QVERIFY(replay_from_json(replay_to_json(r)));
+  }
+
   void samplesAt30HzThroughTheLastFrame() {
     // 0 .. 0.502 s: grid frames k / 30 for k = 0..15 (0.5 s), then the last trace frame.
     const Trace trace = trace_2ms(251);

@@ -65,6 +65,11 @@ class TestGlConsole : public QObject {
     window.show();
     QVERIFY(QTest::qWaitForWindowExposed(&window));
     QVERIFY(window.loadScenario(slug));
+    // Before any dispatch the 3D view shows the loaded pallet as built, at rest.
+    QVERIFY(window.replayPanel()->showsPreview());
+    QTest::qWait(50);
+    QVERIFY(window.replayPanel()->view()->grabFramebuffer().save(
+        artifact(QStringLiteral("console_as_built_%1.png").arg(slug))));
     QSignalSpy finished(&window, &MainWindow::dispatchFinished);
     window.dispatch(scenario->suggested_profile, false);
     QVERIFY(finished.wait(60000));

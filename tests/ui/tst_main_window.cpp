@@ -108,6 +108,25 @@ class TestMainWindow : public QObject {
     }
   }
 
+  // The 3D view shows the pallet being edited, at rest, as soon as it changes: not the previous
+  // pallet's replay, and nothing to play or export until a dispatch.
+  void theViewShowsThePalletBeingEdited() {
+    MainWindow window;
+    pb::ui::ReplayPanel* replay = window.replayPanel();
+    QVERIFY(replay->showsPreview());
+    QVERIFY(window.loadScenario(QStringLiteral("tall-unwrapped-tower")));
+    QVERIFY(replay->showsPreview() && !replay->hasReplay());
+    QCOMPARE(replay->replay().frames.at(0).items.size(), std::size_t(8));
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dispatch(pb::load_scenario("tall-unwrapped-tower")->suggested_profile, false);
+    QVERIFY(finished.wait(30000));
+    QVERIFY(replay->hasReplay() && !replay->showsPreview());
+    QVERIFY(window.loadScenario(QStringLiteral("top-heavy-surprise")));  // the pallet changes
+    QVERIFY(replay->showsPreview() && !replay->hasReplay());
+    QCOMPARE(replay->replay().frames.at(0).items.size(), std::size_t(6));
+    QCOMPARE(replay->replay().pallet, window.document()->pallet());
+  }
+
   // A pallet validation refuses is not dispatched: nothing is simulated, and the dial panel and
   // the status bar say why, in the stack builder's words (stacks counted from 1).
   void anInvalidPalletIsNotDispatched() {
