@@ -69,6 +69,8 @@ MainWindow::MainWindow(QWidget* parent)
   auto* leftLayout = new QVBoxLayout(left);
   leftLayout->setContentsMargins(0, 0, 0, 0);
   _picker = new ScenarioPicker(_document, left);
+  // A scenario is opened like a file: unsaved work is saved, discarded or kept (cancel) first.
+  _picker->setMayReplace([this] { return _files->maybeSave(); });
   _builder = new StackBuilderPanel(_document, left);
   leftLayout->addWidget(_picker);
   leftLayout->addWidget(_builder, 1);

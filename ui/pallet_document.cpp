@@ -418,8 +418,12 @@ bool PalletDocument::replacePallet(const pb::PalletConfig& config, const QString
 }
 
 bool PalletDocument::loadScenario(const pb::Scenario& scenario) {
-  return replacePallet(scenario.pallet,
-                       tr("Load scenario %1").arg(QString::fromStdString(scenario.name)));
+  _undo.clear();
+  _dragOpen = false;
+  apply(scenario.pallet);
+  setFile(QString(), QString::fromStdString(scenario.name));
+  emit modifiedChanged(false);
+  return true;
 }
 
 }  // namespace pb::ui

@@ -99,7 +99,9 @@ class PalletDocument : public QObject {
   bool setPalletType(pb::PalletType type);
   /// Replaces the whole pallet (one step), e.g. a curated scenario: `text` names the step.
   bool replacePallet(const pb::PalletConfig& config, const QString& text);
-  /// Loads a curated scenario's pallet as one undo step; the document keeps its file path.
+  /// Opens a curated scenario as a document of its own, as File > Open does a file: its pallet,
+  /// named after the scenario, unmodified, no file yet (Save asks where), a fresh undo history.
+  /// Ask to save unsaved work first (FileActions::maybeSave; the console's picker does).
   bool loadScenario(const pb::Scenario& scenario);
   /// Ends the current drag: the next drag edit starts a new undo step.
   void endDrag();

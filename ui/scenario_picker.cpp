@@ -56,16 +56,17 @@ bool ScenarioPicker::loadSlug(const QString& slug) {
   const int index = _combo->findData(slug);
   if (index < 0) return false;
   _combo->setCurrentIndex(index);
-  loadCurrent();
-  return true;
+  return loadCurrent();
 }
 
-void ScenarioPicker::loadCurrent() {
+bool ScenarioPicker::loadCurrent() {
   const int index = _combo->currentIndex();
-  if (index < 0 || index >= count()) return;
+  if (index < 0 || index >= count()) return false;
+  if (_mayReplace && !_mayReplace()) return false;
   const pb::Scenario& s = _scenarios[static_cast<std::size_t>(index)];
   _document->loadScenario(s);
   emit scenarioLoaded(s);
+  return true;
 }
 
 }  // namespace pb::ui

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <QWidget>
+#include <functional>
 #include <vector>
 
 #include "core/scenario.hpp"
@@ -29,18 +30,22 @@ class ScenarioPicker : public QWidget {
   const pb::Scenario& scenario(int index) const { return _scenarios.at(index); }
   int currentIndex() const;
   void setCurrentIndex(int index);
+  /// Asked before a scenario replaces the document; false keeps the document (e.g. the user
+  /// cancelled saving unsaved changes). Unset: always replace.
+  void setMayReplace(std::function<bool()> mayReplace) { _mayReplace = std::move(mayReplace); }
 
  public slots:
-  /// Loads the scenario with this slug (false if unknown).
+  /// Opens the scenario with this slug as the document (false if unknown or not replaced).
   bool loadSlug(const QString& slug);
-  /// Loads the selected scenario.
-  void loadCurrent();
+  /// Opens the selected scenario as the document (false if not replaced).
+  bool loadCurrent();
 
  signals:
   void scenarioLoaded(const pb::Scenario& scenario);
 
  private:
   PalletDocument* _document;
+  std::function<bool()> _mayReplace;
   std::vector<pb::Scenario> _scenarios;
   QComboBox* _combo;
   QLabel* _description;

@@ -70,7 +70,7 @@ class TestPalletDocument : public QObject {
     QTest::addColumn<QString>("kind");
     for (const char* kind :
          {"add", "move", "delete", "grow", "shrink", "column", "brick", "pinwheel", "wrap",
-          "environment", "temperature", "since", "pallet_type", "scenario", "replace"}) {
+          "environment", "temperature", "since", "pallet_type", "replace"}) {
       QTest::newRow(kind) << QString::fromLatin1(kind);
     }
   }
@@ -162,10 +162,6 @@ class TestPalletDocument : public QObject {
         QVERIFY(qAbs(p.items[0].position[2] - spec.dims_m[2]) < 1e-12);
         QCOMPARE(p.items[0].position[0], before.items[0].position[0]);
       };
-    } else if (kind == u"scenario") {
-      const pb::Scenario s = scenario("frozen-meat-sprint");
-      QVERIFY(doc.loadScenario(s));
-      check = [s](const pb::PalletConfig& p) { QCOMPARE(p, s.pallet); };
     } else if (kind == u"replace") {
       pb::PalletConfig other = before;
       other.items.pop_back();
@@ -312,7 +308,8 @@ class TestPalletDocument : public QObject {
     QVERIFY(doc.addStack({0.0, 0.0}, kSku, 2));
     QVERIFY(doc.saveAs(path).ok);
     const QByteArray old = read_all(path);
-    QVERIFY(doc.loadScenario(scenario("frozen-meat-sprint")));  // far more bytes than the limit
+    // Far more bytes than the limit (the whole pallet replaced in one edit).
+    QVERIFY(doc.replacePallet(scenario("frozen-meat-sprint").pallet, QStringLiteral("Replace")));
 
     rlimit saved{};
     QCOMPARE(getrlimit(RLIMIT_FSIZE, &saved), 0);
@@ -423,6 +420,23 @@ class TestPalletDocument : public QObject {
     QCOMPARE(doc.displayName(), QString::fromStdString(s.name) + QStringLiteral(" (scenario)"));
     QVERIFY(!doc.save().ok);
     QCOMPARE(read_all(path), QByteArray::fromStdString(pb::scenario_to_json(s).dump(2)));
+  }
+
+  // A scenario opens as a document of its own, as a file does: named after it, unmodified, no
+  // file yet, a fresh undo history (New does not ask to save it; Save asks where).
+  void aScenarioOpensAsADocument() {
+    PalletDocument doc;
+    QVERIFY(doc.addStack({0.0, 0.0}, kSku, 2));
+    QVERIFY(doc.isModified());
+    QSignalSpy titles(&doc, &PalletDocument::titleChanged);
+    const pb::Scenario s = scenario("tall-unwrapped-tower");
+    QVERIFY(doc.loadScenario(s));
+    QCOMPARE(doc.pallet(), s.pallet);
+    QVERIFY(!doc.isModified());
+    QCOMPARE(doc.undoStack()->count(), 0);
+    QVERIFY(doc.windowTitle().startsWith(QString::fromStdString(s.name)));
+    QCOMPARE(titles.last().at(0).toString(), doc.windowTitle());
+    QVERIFY(doc.save().messages.join(u' ').contains(u"Save As"));  // no file yet
   }
 
   void newDocumentResets() {
