@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The curated scenarios in a combo box (name, tag; the description as tooltip) with a Load button
-// that loads the chosen scenario's pallet into the document as one undo step.
+// that opens the chosen scenario as the document (after the console asks to save unsaved work).
 //
 // Wiring: ScenarioPicker::scenarioLoaded(const pb::Scenario&) -> the dial panel (its suggested
 // profile) and anything that shows the scenario's expected failure.
