@@ -108,7 +108,8 @@ MainWindow::MainWindow(QWidget* parent)
   connect(_document, &PalletDocument::changed, this, [this] {
     // Whatever was asked about the previous pallet is no answer for this one: stop it (the core
     // stops inside the probe it steps) rather than show it under the edited pallet.
-    if (_service->pendingCount() > 0) {
+    const bool stopped = _service->pendingCount() > 0;
+    if (stopped) {
       _cancelReason = tr("Cancelled: the pallet changed");
       _service->cancelAll();
       _cancelReason.clear();
@@ -118,6 +119,9 @@ MainWindow::MainWindow(QWidget* parent)
     _dials->resetRound();
     _replay->showPallet(_document->pallet());  // the pallet being edited, at rest
     _traces->clear();
+    // What the status said was about the previous pallet ("Replay ready", a map's count).
+    showStatus(stopped ? tr("Cancelled: the pallet changed. Dispatch to analyse this pallet.")
+                       : tr("The pallet changed. Dispatch to analyse it."));
   });
   connect(_picker, &ScenarioPicker::scenarioLoaded, this, [this](const pb::Scenario& s) {
     _dials->setSpeed(s.suggested_profile.target_speed_mps);

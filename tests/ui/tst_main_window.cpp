@@ -121,8 +121,11 @@ class TestMainWindow : public QObject {
     window.dispatch(pb::load_scenario("tall-unwrapped-tower")->suggested_profile, false);
     QVERIFY(finished.wait(30000));
     QVERIFY(replay->hasReplay() && !replay->showsPreview());
+    QCOMPARE(window.statusText(), QStringLiteral("Replay ready"));
     QVERIFY(window.loadScenario(QStringLiteral("top-heavy-surprise")));  // the pallet changes
     QVERIFY(replay->showsPreview() && !replay->hasReplay());
+    QVERIFY2(!window.statusText().contains(QStringLiteral("ready")),  // no word of the old one
+             qPrintable(window.statusText()));
     QCOMPARE(replay->replay().frames.at(0).items.size(), std::size_t(6));
     QCOMPARE(replay->replay().pallet, window.document()->pallet());
   }
