@@ -149,7 +149,7 @@ std::unique_ptr<PlaneModel> Analyzer::plane_model(const PalletConfig& config, Pr
   if (!simulator) return nullptr;
   model->simulator = std::make_unique<Simulator>(std::move(*simulator.value));
   auto rest = model->simulator->settle(options_.settle, options_.sim.thresholds);
-  // A reduced load that does not come to rest where the whole one did is no stand-in for it.
+  // The whole load stands (prepare checked it); a reduced load that cannot is no stand-in for it.
   if (!rest || rest.value->cannot_stand) return nullptr;
   model->rest = std::move(*rest.value);
   return model;

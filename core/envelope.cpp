@@ -16,6 +16,7 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 namespace pb {
@@ -545,28 +546,26 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     std::atomic<std::size_t> next{0};
     auto work = [&](bool caller) {
       std::map<const Scene*, std::unique_ptr<Simulator>> own;
+      auto simulator_for = [&](Simulator& model) -> Simulator& {
+        if (caller) return model;
+        auto& mine = own[&model.scene()];
+        if (!mine) {
+          auto created = Simulator::create(model.scene());
+          if (!created) {
+            throw std::runtime_error(created.diagnostics.empty()
+                                         ? std::string("no simulation data")
+                                         : created.diagnostics.front().message);
+          }
+          mine = std::make_unique<Simulator>(std::move(*created.value));
+        }
+        return *mine;
+      };
       for (std::size_t n = next++; n < order.size(); n = next++) {
         const std::size_t i = order[n];
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
-          Simulator* sim = m.simulator;
-          if (!caller) {
-            auto& mine = own[&m.simulator->scene()];
-            if (!mine) {
-              auto created = Simulator::create(m.simulator->scene());
-              if (!created) {
-                outcomes[i] = {};
-                outcomes[i].error =
-                    std::string(to_string(tasks[i].axis)) + " search: " +
-                    (created.diagnostics.empty() ? std::string("no simulation data")
-                                                 : created.diagnostics.front().message);
-                continue;
-              }
-              mine = std::make_unique<Simulator>(std::move(*created.value));
-            }
-            sim = mine.get();
-          }
-          outcomes[i] = search_axis(tasks[i], *sim, *m.rest, o, s.seed_with_closed_form, k);
+          outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
+                                    s.seed_with_closed_form, k);
         } catch (const std::exception& e) {
           outcomes[i] = {};
           outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();

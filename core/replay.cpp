@@ -53,7 +53,7 @@ Replay as_built_replay(const PalletConfig& pallet) {
   f.pallet.pos = {0.0, 0.0, pallet.base_dims_m[2] / 2.0};
   for (const Item& item : pallet.items) {
     Pose p;
-    p.pos = {item.position[0], item.position[1], item.position[2] + item.dims_m[2] / 2.0};
+    p.pos = item.center_of_mass();
     const double half = item.orientation_deg * std::numbers::pi / 360.0;
     p.quat = {std::cos(half), 0.0, 0.0, std::sin(half)};
     f.items.push_back(p);

@@ -85,18 +85,19 @@ std::optional<LoadReduction> reduce_symmetric_stacks(const PalletConfig& config,
   // Copies: the same items at the same offsets from the stack's origin, and the same position
   // along the plane (X for a probe along the belt, Y across it).
   const bool along = plane == ProbePlane::along;
-  using Key = std::vector<std::tuple<std::string, double, long long, long long, long long,
-                                     long long, long long, long long, long long, int>>;
+  using ItemKey = std::tuple<std::string, double, long long, long long, long long, long long,
+                             long long, long long, long long, int>;
+  using Key = std::pair<long long, std::vector<ItemKey>>;  // position along the plane, items
   std::map<Key, std::vector<std::size_t>> groups;
   for (std::size_t s = 0; s < stacks.size(); ++s) {
     const Stack& st = stacks[s];
-    Key key;
-    key.emplace_back("", 0.0, um(along ? st.x : st.y), 0, 0, 0, 0, 0, 0, 0);
+    Key key{um(along ? st.x : st.y), {}};
     for (int i : st.items) {
       const Item& it = items[std::size_t(i)];
-      key.emplace_back(it.sku, it.weight_kg, um(it.dims_m[0]), um(it.dims_m[1]), um(it.dims_m[2]),
-                       um(it.position[0] - st.x), um(it.position[1] - st.y), um(it.position[2]),
-                       std::llround(it.orientation_deg), int(it.fragility));
+      key.second.emplace_back(it.sku, it.weight_kg, um(it.dims_m[0]), um(it.dims_m[1]),
+                              um(it.dims_m[2]), um(it.position[0] - st.x),
+                              um(it.position[1] - st.y), um(it.position[2]),
+                              std::llround(it.orientation_deg), int(it.fragility));
     }
     groups[key].push_back(s);
   }

@@ -20,8 +20,8 @@ QString num(double v, int decimals) {
 
 /// A failure mode in a supervisor's words (core/detectors.hpp).
 QString modeWords(FailureMode mode) {
-  return QString::fromUtf8(pb::mode_words(mode).data(),
-                           static_cast<qsizetype>(pb::mode_words(mode).size()));
+  const std::string_view words = pb::mode_words(mode);
+  return QString::fromUtf8(words.data(), static_cast<qsizetype>(words.size()));
 }
 
 /// What set the speed limit, in words ("estop" -> "the line's e-stop").
