@@ -146,9 +146,46 @@ double footprint_overlap_area(const Item& a, const Item& b) {
   return convex_overlap_area(footprint_polygon(a), footprint_polygon(b));
 }
 
+std::vector<std::vector<std::size_t>> footprint_neighbours(const PalletConfig& config,
+                                                           double margin_m) {
+  struct Bounds {
+    double x0, x1, y0, y1;
+    std::size_t item;
+  };
+  std::vector<Bounds> boxes;
+  boxes.reserve(config.items.size());
+  for (std::size_t i = 0; i < config.items.size(); ++i) {
+    const auto corners = item_footprint(config.items[i]);
+    if (!std::all_of(corners.begin(), corners.end(),
+                     [](const Vec2& v) { return std::isfinite(v[0]) && std::isfinite(v[1]); })) {
+      continue;
+    }
+    Bounds b{corners[0][0], corners[0][0], corners[0][1], corners[0][1], i};
+    for (const Vec2& v : corners) {
+      b = {std::min(b.x0, v[0]), std::max(b.x1, v[0]), std::min(b.y0, v[1]), std::max(b.y1, v[1]),
+           i};
+    }
+    boxes.push_back(b);
+  }
+  std::sort(boxes.begin(), boxes.end(), [](const Bounds& a, const Bounds& b) {
+    return a.x0 < b.x0 || (a.x0 == b.x0 && a.item < b.item);
+  });
+  std::vector<std::vector<std::size_t>> out(config.items.size());
+  for (std::size_t a = 0; a < boxes.size(); ++a) {
+    for (std::size_t b = a + 1; b < boxes.size() && boxes[b].x0 <= boxes[a].x1 + margin_m; ++b) {
+      if (boxes[b].y0 > boxes[a].y1 + margin_m || boxes[a].y0 > boxes[b].y1 + margin_m) continue;
+      out[boxes[a].item].push_back(boxes[b].item);
+      out[boxes[b].item].push_back(boxes[a].item);
+    }
+  }
+  for (auto& list : out) std::sort(list.begin(), list.end());
+  return out;
+}
+
 std::vector<double> support_fractions(const PalletConfig& config, double tolerance_m) {
   const double deck_top = config.base_dims_m[2];
   const std::vector<Vec2> deck = deck_polygon(config.base_dims_m);
+  const auto neighbours = footprint_neighbours(config);
   std::vector<double> fractions;
   fractions.reserve(config.items.size());
   for (std::size_t i = 0; i < config.items.size(); ++i) {
@@ -159,9 +196,9 @@ std::vector<double> support_fractions(const PalletConfig& config, double toleran
     if (std::abs(bottom - deck_top) <= tolerance_m) {
       supported = convex_overlap_area(footprint_polygon(item), deck);
     } else {
-      for (std::size_t j = 0; j < config.items.size(); ++j) {
+      for (const std::size_t j : neighbours[i]) {
         const Item& other = config.items[j];
-        if (j != i && std::abs(other.top_z() - bottom) <= tolerance_m) {
+        if (std::abs(other.top_z() - bottom) <= tolerance_m) {
           supported += footprint_overlap_area(item, other);
         }
       }
@@ -174,10 +211,11 @@ std::vector<double> support_fractions(const PalletConfig& config, double toleran
 std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config) {
   constexpr double kMinSupportArea = 1e-4;  // m^2
   const auto& items = config.items;
+  const auto neighbours = footprint_neighbours(config);
   std::vector<std::vector<std::size_t>> out(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
-    for (std::size_t j = 0; j < items.size(); ++j) {
-      if (i != j && std::abs(items[i].position[2] - items[j].top_z()) <= kSupportTolerance_m &&
+    for (const std::size_t j : neighbours[i]) {
+      if (std::abs(items[i].position[2] - items[j].top_z()) <= kSupportTolerance_m &&
           footprint_overlap_area(items[i], items[j]) > kMinSupportArea) {
         out[i].push_back(j);
       }

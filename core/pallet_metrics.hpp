@@ -51,6 +51,14 @@ double convex_overlap_area(const std::vector<Vec2>& a, const std::vector<Vec2>& 
 /// Overlap area of two items' footprints (m^2).
 double footprint_overlap_area(const Item& a, const Item& b);
 
+/// For each item, the other items whose footprints' bounding boxes come within `margin_m` of its
+/// own, in ascending order: every pair that can overlap, touch or carry one another in plan, found
+/// by sort and sweep along X (O(n log n + pairs), not every pair). An item whose footprint is not
+/// finite has no neighbours and is no one's. The pair checks of validation, support and standing
+/// run over these lists.
+std::vector<std::vector<std::size_t>> footprint_neighbours(const PalletConfig& config,
+                                                           double margin_m = 0.0);
+
 /// Per item, the fraction of its footprint area resting on something: the pallet deck (items
 /// whose bottom is within `tolerance_m` of the deck top, clipped to the deck's rectangle) or items
 /// whose top is within `tolerance_m` of its bottom. Overlapping supports are not double-counted

@@ -64,9 +64,10 @@ Box bounds(const std::vector<Vec2>& polygon) {
 }
 
 // What item `i`, shifted horizontally by `shift`, rests on: the deck, or the items whose top is at
-// its bottom.
+// its bottom, among `candidates` (its footprint_neighbours when not shifted) or, without them, all.
 std::vector<Patch> contacts(const PalletConfig& config, std::size_t i, const Vec2& shift,
-                            double tolerance_m) {
+                            double tolerance_m,
+                            const std::vector<std::size_t>* candidates = nullptr) {
   const Item& item = config.items[i];
   const std::vector<Vec2> footprint = translated(footprint_polygon(item), shift);
   std::vector<Patch> out;
@@ -78,16 +79,21 @@ std::vector<Patch> contacts(const PalletConfig& config, std::size_t i, const Vec
     return out;
   }
   const Box box = bounds(footprint);
-  for (std::size_t j = 0; j < config.items.size(); ++j) {
+  auto consider = [&](std::size_t j) {
     const Item& other = config.items[j];
-    if (j == i || std::abs(other.top_z() - item.position[2]) > tolerance_m) continue;
+    if (j == i || std::abs(other.top_z() - item.position[2]) > tolerance_m) return;
     const std::vector<Vec2> under = footprint_polygon(other);
     const Box b = bounds(under);
-    if (b.x0 >= box.x1 || box.x0 >= b.x1 || b.y0 >= box.y1 || box.y0 >= b.y1) continue;
+    if (b.x0 >= box.x1 || box.x0 >= b.x1 || b.y0 >= box.y1 || box.y0 >= b.y1) return;
     auto patch = convex_intersection(footprint, under);
     if (!patch.empty() && polygon_area(patch) > kMinContactArea) {
       out.push_back({std::move(patch), j});
     }
+  };
+  if (candidates != nullptr) {
+    for (const std::size_t j : *candidates) consider(j);
+  } else {
+    for (std::size_t j = 0; j < config.items.size(); ++j) consider(j);
   }
   return out;
 }
@@ -245,6 +251,7 @@ std::vector<Share> distribute(const std::vector<Patch>& patches, double mass, co
 std::vector<ItemStanding> standing(const PalletConfig& config, double tolerance_m) {
   const auto& items = config.items;
   std::vector<ItemStanding> out(items.size());
+  const auto neighbours = footprint_neighbours(config);
   std::vector<double> mass(items.size());
   std::vector<Vec2> moment(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
@@ -263,7 +270,7 @@ std::vector<ItemStanding> standing(const PalletConfig& config, double tolerance_
     ItemStanding& s = out[i];
     s.load_kg = mass[i];
     s.load_point = (1.0 / mass[i]) * moment[i];
-    const std::vector<Patch> patches = contacts(config, i, {0.0, 0.0}, tolerance_m);
+    const std::vector<Patch> patches = contacts(config, i, {0.0, 0.0}, tolerance_m, &neighbours[i]);
     for (const Patch& p : patches) {
       if (p.support == kDeck) {
         s.on_deck = true;
@@ -297,13 +304,14 @@ bool stands(const PalletConfig& config, double margin_m, double tolerance_m) {
 
 std::vector<std::size_t> carried_items(const PalletConfig& config, std::size_t item,
                                        double tolerance_m) {
+  const auto neighbours = footprint_neighbours(config);
   std::vector<bool> seen(config.items.size(), false);
   std::vector<std::size_t> stack{item};
   while (!stack.empty()) {
     const std::size_t below = stack.back();
     stack.pop_back();
     const Item& b = config.items[below];
-    for (std::size_t j = 0; j < config.items.size(); ++j) {
+    for (const std::size_t j : neighbours[below]) {
       const Item& a = config.items[j];
       if (seen[j] || j == item || std::abs(a.position[2] - b.top_z()) > tolerance_m ||
           footprint_overlap_area(a, b) <= kMinContactArea) {

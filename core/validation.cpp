@@ -224,6 +224,7 @@ class PhysicalChecks {
                                             ? support_fractions(config_, tolerance)
                                             : std::vector<double>(config_.items.size(), 1.0);
     if (all_usable_ && c_.limits().check_standing) standings_ = standing(config_, tolerance);
+    neighbours_ = footprint_neighbours(config_);
     for (std::size_t i = 0; i < config_.items.size(); ++i) {
       if (!usable_[i]) continue;
       const bool interpenetrates = check_interpenetration(i);
@@ -256,7 +257,8 @@ class PhysicalChecks {
   bool check_interpenetration(std::size_t j) {
     const double tolerance = c_.limits().penetration_tolerance_m;
     bool found = false;
-    for (std::size_t i = 0; i < j; ++i) {
+    for (const std::size_t i : neighbours_[j]) {
+      if (i >= j) break;
       if (!usable_[i]) continue;
       const double horizontal = horizontal_penetration(item(i), item(j));
       const double vertical = vertical_overlap(item(i), item(j));
@@ -275,8 +277,8 @@ class PhysicalChecks {
   bool check_floating(std::size_t i) {
     const double bottom = item(i).position[2];
     double rest = deck_top_;
-    for (std::size_t k = 0; k < config_.items.size(); ++k) {
-      if (k == i || item(k).position[2] >= bottom) continue;
+    for (const std::size_t k : neighbours_[i]) {
+      if (item(k).position[2] >= bottom) continue;
       if (footprint_overlap_area(item(i), item(k)) > kMinContactArea) {
         rest = std::max(rest, item(k).top_z());
       }
@@ -359,6 +361,7 @@ class PhysicalChecks {
   bool all_usable_;
   double deck_top_;
   std::vector<ItemStanding> standings_;  ///< empty: not judged (unusable numbers, or not asked)
+  std::vector<std::vector<std::size_t>> neighbours_;  ///< footprint_neighbours: the pairs to check
 };
 
 void check_gross_mass(Checker& c, const PalletConfig& config) {

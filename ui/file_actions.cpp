@@ -2,10 +2,17 @@
 #include "ui/file_actions.hpp"
 
 #include <QAction>
+#include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QLocale>
 #include <QMenu>
 #include <QMessageBox>
+#include <QPushButton>
+#include <algorithm>
+#include <cstdio>
+
+#include "ui/autosave.hpp"
 
 namespace pb::ui {
 
@@ -35,6 +42,18 @@ FileActions::FileActions(PalletDocument* document, RecentFiles* recent, QWidget*
   };
   _hooks.showError = [this](const QString& title, const QString& text) {
     QMessageBox::warning(_dialogParent, title, text);
+  };
+  _hooks.askRestore = [this](const QString& text) {
+    QMessageBox box(QMessageBox::Question, tr("Restore unsaved work?"), text, QMessageBox::NoButton,
+                    _dialogParent);
+    QPushButton* restore = box.addButton(tr("Restore"), QMessageBox::AcceptRole);
+    QPushButton* discard = box.addButton(tr("Discard"), QMessageBox::DestructiveRole);
+    box.addButton(tr("Later"), QMessageBox::RejectRole);
+    box.setDefaultButton(restore);
+    box.exec();
+    return box.clickedButton() == restore   ? Lost::restore
+           : box.clickedButton() == discard ? Lost::discard
+                                            : Lost::later;
   };
 
   _new = new QAction(tr("&New pallet"), this);
@@ -151,6 +170,32 @@ bool FileActions::saveAs() {
     _hooks.showError(tr("Cannot save"), outcome.messages.join(QLatin1Char('\n')));
   }
   return outcome.ok;
+}
+
+bool FileActions::offerRecovery(const QString& directory) {
+  QStringList problems;
+  QList<Recovery> lost = Autosave::orphans(directory, &problems);
+  for (const QString& p : problems) std::fprintf(stderr, "palletballet: %s\n", qPrintable(p));
+  std::sort(lost.begin(), lost.end(),
+            [](const Recovery& a, const Recovery& b) { return a.savedAt > b.savedAt; });
+  for (const Recovery& r : lost) {
+    const QString what = r.filePath.isEmpty() ? r.name : QDir::toNativeSeparators(r.filePath);
+    const QString text =
+        tr("PalletBallet closed without saving changes to %1 (last copied %2). Restore them?")
+            .arg(what, QLocale().toString(r.savedAt.toLocalTime(), QLocale::ShortFormat));
+    switch (_hooks.askRestore ? _hooks.askRestore(text) : Lost::later) {
+      case Lost::restore:
+        _document->restoreUnsaved(r.pallet, r.filePath, r.name);
+        Autosave::discard(r);  // the document holds it now, and the autosave copies it again
+        return true;
+      case Lost::discard:
+        Autosave::discard(r);
+        break;
+      case Lost::later:
+        break;
+    }
+  }
+  return false;
 }
 
 }  // namespace pb::ui

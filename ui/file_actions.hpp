@@ -27,11 +27,14 @@ class FileActions : public QObject {
  public:
   /// What the user answers when the document has unsaved changes.
   enum class Unsaved { save, discard, cancel };
+  /// What the user answers to work a console lost (autosave.hpp).
+  enum class Lost { restore, discard, later };
   struct Hooks {
     std::function<QString()> openPath;                ///< "" = cancelled
     std::function<QString(const QString&)> savePath;  ///< suggested name -> path, "" = cancelled
     std::function<Unsaved()> askUnsaved;
     std::function<void(const QString& title, const QString& text)> showError;
+    std::function<Lost(const QString& text)> askRestore;
   };
 
   /// Dialogs parented to `dialogParent`; recent files in `recent` (not owned).
@@ -60,6 +63,10 @@ class FileActions : public QObject {
   bool saveAs();
   /// True when there are no unsaved changes left (saved, discarded); false when cancelled.
   bool maybeSave();
+  /// Offers, newest first, each copy of unsaved work that a console which died left in
+  /// `directory` (Autosave::orphans): Restore opens it (and ends the offers), Discard deletes it,
+  /// Later keeps it for the next start. True when one was restored.
+  bool offerRecovery(const QString& directory);
 
  signals:
   void opened(const QString& path);

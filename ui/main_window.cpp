@@ -14,6 +14,7 @@
 #include <algorithm>
 
 #include "core/scenario.hpp"
+#include "ui/autosave.hpp"
 #include "ui/dial_panel.hpp"
 #include "ui/failure_map_view.hpp"
 #include "ui/file_actions.hpp"
@@ -201,6 +202,11 @@ void MainWindow::wireAnalysis() {
       maybeFinishDispatch();
     }
   });
+}
+
+bool MainWindow::enableAutosave(const QString& directory) {
+  if (_autosave == nullptr) _autosave = new Autosave(_document, directory, 2000, this);
+  return _files->offerRecovery(directory);
 }
 
 bool MainWindow::loadScenario(const QString& slug) {

@@ -15,6 +15,7 @@ class QPushButton;
 namespace pb::ui {
 
 class DialPanel;
+class Autosave;
 class FileActions;
 class FrictionChart;
 class PalletDocument;
@@ -32,6 +33,10 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
+  /// Keeps a recovery copy of unsaved work in `directory` (autosave.hpp) and offers what a console
+  /// that died left there; true when lost work was restored (the caller then loads nothing else).
+  /// The interactive console calls it; screenshots and tests do not.
+  bool enableAutosave(const QString& directory);
   /// Loads a curated scenario into the document and its suggested profile into the dials.
   bool loadScenario(const QString& slug);
   /// Runs `profile` on the document's pallet (the replay starts when it arrives) and, with
@@ -71,6 +76,7 @@ class MainWindow : public QMainWindow {
   PalletDocument* _document;
   RecentFiles* _recent;
   FileActions* _files;
+  Autosave* _autosave = nullptr;
   AnalysisService* _service;
   ScenarioPicker* _picker;
   StackBuilderPanel* _builder;

@@ -417,6 +417,15 @@ bool PalletDocument::replacePallet(const pb::PalletConfig& config, const QString
   return push(config, text);
 }
 
+void PalletDocument::restoreUnsaved(const pb::PalletConfig& pallet, const QString& path,
+                                    const QString& name) {
+  if (path.isEmpty() || !open(path).ok) {
+    newDocument();
+    if (!name.isEmpty()) setFile(QString(), name);
+  }
+  push(pallet, tr("Restore unsaved changes"));
+}
+
 bool PalletDocument::loadScenario(const pb::Scenario& scenario) {
   _undo.clear();
   _dragOpen = false;

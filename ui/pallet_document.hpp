@@ -103,6 +103,10 @@ class PalletDocument : public QObject {
   /// named after the scenario, unmodified, no file yet (Save asks where), a fresh undo history.
   /// Ask to save unsaved work first (FileActions::maybeSave; the console's picker does).
   bool loadScenario(const pb::Scenario& scenario);
+  /// Restores work a console lost (autosave.hpp): the document of `path` as saved (or, without a
+  /// readable file, a new one named `name`) with `pallet` on top as one undoable step, so the
+  /// restored work is unsaved again and Undo shows what the file held.
+  void restoreUnsaved(const pb::PalletConfig& pallet, const QString& path, const QString& name);
   /// Ends the current drag: the next drag edit starts a new undo step.
   void endDrag();
 

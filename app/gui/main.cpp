@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <string>
 
+#include "ui/autosave.hpp"
 #include "ui/console_screenshot.hpp"
 #include "ui/main_window.hpp"
 
@@ -133,6 +134,7 @@ int main(int argc, char** argv) {
   if (request.screenshotPath.isEmpty()) {
     window.show();
     QTimer::singleShot(0, &window, [&] {
+      if (window.enableAutosave(pb::ui::Autosave::defaultDirectory())) return;  // lost work back
       if (!window.loadScenario(request.slug)) return;
       window.dispatch(request.profile, true, true);
     });

@@ -195,6 +195,50 @@ class PalletMetricsTest : public QObject {
     QVERIFY(!mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(-0.3, 0, 0.35), carton(0.3, 0, 0.15)})));
   }
+
+  // The sweep finds exactly the pairs whose footprint bounds come within the margin, as checking
+  // every pair does: a grid, a brick layer, yawed items, touching edges and a non-finite item.
+  void footprintNeighboursAreEveryPairThatCanMeet() {
+    std::vector<Item> items;
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 5; ++c)
+        items.push_back(box(0.4 * c - 0.8, 0.3 * r - 0.45, 0.144, 0.4, 0.3, 0.2));
+    }
+    for (int c = 0; c < 4; ++c)
+      items.push_back(box(0.4 * c - 0.6, 0.0, 0.344, 0.4, 0.3, 0.2, 30.0 * c));
+    items.push_back(box(0.7, 0.9, 0.144, 0.2, 0.2, 0.2));
+    items.push_back(box(std::nan(""), 0.0, 0.144, 0.2, 0.2, 0.2));
+    const PalletConfig config = pallet(items);
+    for (const double margin : {0.0, 0.01, 0.5}) {
+      const auto neighbours = footprint_neighbours(config, margin);
+      QCOMPARE(neighbours.size(), items.size());
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        std::vector<std::size_t> expected;
+        for (std::size_t j = 0; j < items.size(); ++j) {
+          if (j == i) continue;
+          auto bounds = [](const Item& it) {
+            std::array<double, 4> b{1e300, -1e300, 1e300, -1e300};
+            for (const Vec2& v : item_footprint(it)) {
+              b = {std::min(b[0], v[0]), std::max(b[1], v[0]), std::min(b[2], v[1]),
+                   std::max(b[3], v[1])};
+            }
+            return b;
+          };
+          const auto a = bounds(items[i]);
+          const auto b = bounds(items[j]);
+          if (!std::isfinite(items[i].position[0]) || !std::isfinite(items[j].position[0]))
+            continue;
+          if (b[0] <= a[1] + margin && a[0] <= b[1] + margin && b[2] <= a[3] + margin &&
+              a[2] <= b[3] + margin) {
+            expected.push_back(j);
+          }
+        }
+        QCOMPARE(neighbours[i], expected);
+      }
+    }
+    // A layer side by side: each inner carton of the grid touches its eight neighbours' bounds.
+    QCOMPARE(footprint_neighbours(config)[6].size(), std::size_t{8 + 2});
+  }
 };
 
 QTEST_APPLESS_MAIN(PalletMetricsTest)

@@ -486,7 +486,8 @@ class TestPalletDocument : public QObject {
                         ++asked;
                         return unsaved;
                       },
-                      [&](const QString&, const QString& text) { errors << text; }});
+                      [&](const QString&, const QString& text) { errors << text; },
+                      [](const QString&) { return FileActions::Lost::later; }});
 
     QVERIFY(doc.addStack({0.0, 0.0}, kSku, 3));
     nextPath = dir.filePath(QStringLiteral("a.json"));
