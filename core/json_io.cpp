@@ -474,6 +474,12 @@ Result<SafetyResult> safety_result_from_json(const Json& json, const std::string
 }
 
 Result<Json> parse_json(std::string_view text) {
+  if (text.size() > kMaxDocumentBytes) {
+    return Result<Json>::failure(
+        "", "the document is larger than " + std::to_string(kMaxDocumentBytes >> 20) +
+                " MB, the most that is read; a pallet of 400 items is about 0.3 MB: check that "
+                "this is the file you meant");
+  }
   try {
     return Result<Json>{Json::parse(text), {}};
   } catch (const Json::parse_error& e) {

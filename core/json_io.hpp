@@ -38,7 +38,13 @@ Result<ConveyorProfile> profile_from_json(const Json& json, const std::string& p
 Result<SafetyResult> safety_result_from_json(const Json& json,
                                              const std::string& pointer_prefix = "");
 
-/// Parses JSON text; a syntax error is one diagnostic at pointer "" naming the byte offset.
+/// The largest JSON text read, 64 MiB: a pallet of the most items validation allows (400) is about
+/// 0.3 MB and a long replay a few MB. A larger text is refused before it is parsed; readers of
+/// files and streams read at most one byte more than this.
+inline constexpr std::size_t kMaxDocumentBytes = std::size_t{64} << 20;
+
+/// Parses JSON text; a syntax error is one diagnostic at pointer "" naming the byte offset, a text
+/// over kMaxDocumentBytes one that names the limit.
 Result<Json> parse_json(std::string_view text);
 
 /// Compact canonical text of a JSON value: keys sorted (nlohmann's default), numbers written to

@@ -16,6 +16,8 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 mesa-utils
   # fonts, so screenshots have readable text
   fonts-dejavu-core
+  # CI's fuzz preset: clang 14 and its libFuzzer runtime (tests/fuzz)
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

@@ -110,7 +110,7 @@ QList<Recovery> Autosave::orphans(const QString& directory, QStringList* problem
       if (problems) *problems << path + QStringLiteral(": ") + file.errorString();
       continue;
     }
-    const QByteArray bytes = file.readAll();
+    const QByteArray bytes = file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
     auto json = pb::parse_json(std::string_view(bytes.constData(), std::size_t(bytes.size())));
     const pb::Json* root = json ? &*json : nullptr;
     if (root == nullptr || !root->is_object() || root->value("kind", "") != kKind ||

@@ -164,7 +164,7 @@ FileOutcome PalletDocument::open(const QString& path) {
             {tr("cannot open '%1': %2; check the path and its permissions")
                  .arg(path, file.errorString())}};
   }
-  const QByteArray bytes = file.readAll();
+  const QByteArray bytes = file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
   auto json = pb::parse_json(std::string_view(bytes.constData(), bytes.size()));
   if (!json) return {false, messages_of(json.diagnostics)};
   // A scenario file holds its pallet under "pallet" (as the CLI's reader accepts).

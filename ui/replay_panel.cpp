@@ -77,7 +77,7 @@ QString ReplayPanel::openReplayFile(const QString& path) {
   if (!file.open(QIODevice::ReadOnly)) {
     return tr("Cannot open %1: %2").arg(path, file.errorString());
   }
-  const QByteArray bytes = file.readAll();
+  const QByteArray bytes = file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
   auto json = pb::parse_json(std::string_view(bytes.constData(), bytes.size()));
   QStringList errors;
   if (json) {

@@ -21,16 +21,24 @@ namespace pb::cli {
 namespace {
 
 // A file's text, or stdin's for "-"; nullopt if the file cannot be opened.
+// At most one byte more than parse_json accepts, so that a huge file is refused by size, not read.
 std::optional<std::string> read_text(const std::string& path) {
-  std::ostringstream text;
-  if (path == "-") {
-    text << std::cin.rdbuf();
-    return text.str();
+  std::ifstream file;
+  std::istream* in = &std::cin;
+  if (path != "-") {
+    file.open(path, std::ios::binary);
+    if (!file) return std::nullopt;
+    in = &file;
   }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return std::nullopt;
-  text << file.rdbuf();
-  return text.str();
+  std::string text;
+  char chunk[1 << 16];
+  while (text.size() <= kMaxDocumentBytes) {
+    in->read(chunk, sizeof chunk);
+    text.append(chunk, std::size_t(in->gcount()));
+    if (!*in) break;
+  }
+  if (in->bad()) return std::nullopt;
+  return text;
 }
 
 // The pallet and suggested profile of a curated scenario, for a FILE argument that is no file.

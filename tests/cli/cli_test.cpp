@@ -150,6 +150,21 @@ class CliTest : public QObject {
     QVERIFY2(r2.err.contains("/items/0/weight_kg: "), r2.err.constData());
   }
 
+  // A document over the size limit is refused by its size (read no further than the limit), from
+  // a file and from stdin alike.
+  void anOversizedDocumentIsRefusedBySize() {
+    QTemporaryDir dir;
+    QByteArray huge = "{\"items\": [], \"notes\": \"";
+    huge += QByteArray(65 << 20, 'x');
+    huge += "\"}";
+    const QString path = write_file(dir, QStringLiteral("huge.json"), huge);
+    for (const Run& r : {cli({QStringLiteral("validate"), path}),
+                         cli({QStringLiteral("validate"), QStringLiteral("-")}, huge)}) {
+      QCOMPARE(r.exit_code, 2);
+      QVERIFY2(r.err.contains("larger than 64 MB"), r.err.constData());
+    }
+  }
+
   void validateBadInput() {
     QTemporaryDir dir;
     Run syntax = cli({QStringLiteral("validate"), write_file(dir, QStringLiteral("x.json"),
