@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs every build, run and test dependency of PalletBallet Console from Debian 12 packages.
 # Idempotent and non-interactive: a second run installs nothing. Needs root (or sudo).
 set -euo pipefail
@@ -16,8 +17,8 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 mesa-utils
   # fonts, so screenshots have readable text
   fonts-dejavu-core
-  # CI's fuzz preset: clang 14 and its libFuzzer runtime (tests/fuzz)
-  clang-14 libclang-rt-14-dev
+  # CI's fuzz preset: clang 14 and its libFuzzer runtime (tests/fuzz); the format check
+  clang-14 libclang-rt-14-dev clang-format-14
 )
 
 missing=()

@@ -6,8 +6,8 @@
 #include <exception>
 #include <utility>
 
-#include "core/fingerprint.hpp"
-#include "core/text.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/fingerprint.hpp"
 
 namespace pb::ui {
 

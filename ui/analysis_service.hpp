@@ -12,7 +12,7 @@
 #include <mutex>
 #include <set>
 
-#include "core/analyzer.hpp"
+#include "core/analysis/analyzer.hpp"
 
 namespace pb::ui {
 
@@ -31,8 +31,8 @@ using FailureMapPtr = std::shared_ptr<const pb::FailureMap>;
 /// solved, failed, or cancelled; progress() reports what the worker is doing meanwhile. All of
 /// these are emitted on the service's (GUI) thread. A cancelled request's result is dropped; a
 /// request that has not started is skipped, and one that is running is stopped inside the
-/// simulation it is stepping (core/cancel.hpp: within a step of every probe of a search or a map),
-/// so the worker is free for the next request at once.
+/// simulation it is stepping (core/base/cancel.hpp: within a step of every probe of a search or a
+/// map), so the worker is free for the next request at once.
 class AnalysisService : public QObject {
   Q_OBJECT
 

@@ -9,7 +9,7 @@
 #include <QStandardPaths>
 #include <cstdio>
 
-#include "core/json_io.hpp"
+#include "core/contract/json_io.hpp"
 #include "ui/pallet_document.hpp"
 
 namespace pb::ui {
@@ -110,7 +110,8 @@ QList<Recovery> Autosave::orphans(const QString& directory, QStringList* problem
       if (problems) *problems << path + QStringLiteral(": ") + file.errorString();
       continue;
     }
-    const QByteArray bytes = file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
+    const QByteArray bytes =
+        file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
     auto json = pb::parse_json(std::string_view(bytes.constData(), std::size_t(bytes.size())));
     const pb::Json* root = json ? &*json : nullptr;
     if (root == nullptr || !root->is_object() || root->value("kind", "") != kKind ||

@@ -20,7 +20,7 @@
 #include <QTimer>
 #include <memory>
 
-#include "core/pallet_config.hpp"
+#include "core/contract/pallet_config.hpp"
 
 namespace pb::ui {
 

@@ -5,7 +5,7 @@
 #include <QListView>
 #include <QVBoxLayout>
 
-#include "core/text.hpp"
+#include "core/base/text.hpp"
 
 namespace pb::ui {
 

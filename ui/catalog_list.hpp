@@ -9,7 +9,7 @@
 #include <QSortFilterProxyModel>
 #include <QWidget>
 
-#include "core/catalog.hpp"
+#include "core/inputs/catalog.hpp"
 
 class QLineEdit;
 class QListView;

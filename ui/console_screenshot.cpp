@@ -7,7 +7,7 @@
 #include <cmath>
 #include <utility>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"
 #include "ui/replay_player.hpp"

@@ -9,7 +9,7 @@
 #include <QString>
 #include <optional>
 
-#include "core/conveyor_profile.hpp"
+#include "core/contract/conveyor_profile.hpp"
 
 namespace pb::ui {
 

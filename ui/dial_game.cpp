@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/detectors.hpp"
+#include "core/physics/detectors.hpp"
 
 namespace pb::ui {
 

@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
-#include "core/conveyor_profile.hpp"
-#include "core/enums.hpp"
-#include "core/safety_result.hpp"
+#include "core/base/enums.hpp"
+#include "core/contract/conveyor_profile.hpp"
+#include "core/contract/safety_result.hpp"
 
 namespace pb::ui {
 

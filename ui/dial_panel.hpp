@@ -18,8 +18,8 @@
 #include <QWidget>
 #include <optional>
 
-#include "core/conveyor_profile.hpp"
-#include "core/safety_result.hpp"
+#include "core/contract/conveyor_profile.hpp"
+#include "core/contract/safety_result.hpp"
 #include "ui/dial_game.hpp"
 
 class QDoubleSpinBox;

@@ -13,9 +13,9 @@
 #include <optional>
 #include <vector>
 
-#include "core/enums.hpp"
-#include "core/failure_map.hpp"
-#include "core/simulate.hpp"
+#include "core/analysis/failure_map.hpp"
+#include "core/base/enums.hpp"
+#include "core/physics/simulate.hpp"
 
 namespace pb::ui {
 

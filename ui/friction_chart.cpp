@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <array>
 
-#include "core/explain.hpp"
+#include "core/analysis/explain.hpp"
 
 namespace pb::ui {
 

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "core/friction.hpp"
-#include "core/pallet_config.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/inputs/friction.hpp"
 
 class QChart;
 class QChartView;

@@ -13,7 +13,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/autosave.hpp"
 #include "ui/dial_panel.hpp"
 #include "ui/failure_map_view.hpp"

@@ -9,11 +9,11 @@
 #include <cmath>
 #include <optional>
 
-#include "core/catalog.hpp"
-#include "core/json_io.hpp"
-#include "core/layer_layout.hpp"
-#include "core/pallet_type.hpp"
-#include "core/validation.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/pallet_type.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/layer_layout.hpp"
+#include "core/inputs/validation.hpp"
 #include "ui/stack_builder_model.hpp"
 
 namespace pb::ui {

@@ -16,10 +16,10 @@
 #include <QString>
 #include <QUndoStack>
 
-#include "core/diagnostic.hpp"
-#include "core/enums.hpp"
-#include "core/pallet_config.hpp"
-#include "core/scenario.hpp"
+#include "core/base/diagnostic.hpp"
+#include "core/base/enums.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/inputs/scenario.hpp"
 
 namespace pb::ui {
 

@@ -6,7 +6,7 @@
 #include <QSaveFile>
 #include <QVBoxLayout>
 
-#include "core/json_io.hpp"
+#include "core/contract/json_io.hpp"
 #include "ui/replay_controls.hpp"
 #include "ui/replay_player.hpp"
 #include "ui/replay_view.hpp"

@@ -12,7 +12,7 @@
 #include <QString>
 #include <QWidget>
 
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
 
 class QLabel;
 

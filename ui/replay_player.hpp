@@ -8,7 +8,7 @@
 #include <QTimer>
 #include <optional>
 
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
 
 namespace pb::ui {
 

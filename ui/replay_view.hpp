@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
 
 class QOpenGLShaderProgram;
 

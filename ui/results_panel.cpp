@@ -4,7 +4,7 @@
 #include <QLabel>
 #include <QVBoxLayout>
 
-#include "core/explain.hpp"
+#include "core/analysis/explain.hpp"
 #include "ui/failure_map_view.hpp"
 
 namespace pb::ui {
@@ -18,7 +18,7 @@ QString num(double v, int decimals) {
   return QString::number(v, 'f', decimals);
 }
 
-/// A failure mode in a supervisor's words (core/detectors.hpp).
+/// A failure mode in a supervisor's words (core/physics/detectors.hpp).
 QString modeWords(FailureMode mode) {
   const std::string_view words = pb::mode_words(mode);
   return QString::fromUtf8(words.data(), static_cast<qsizetype>(words.size()));

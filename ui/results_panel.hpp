@@ -15,8 +15,8 @@
 #include <QString>
 #include <QWidget>
 
-#include "core/replay.hpp"
-#include "core/safety_result.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/contract/safety_result.hpp"
 
 class QLabel;
 

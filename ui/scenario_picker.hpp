@@ -10,7 +10,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 
 class QComboBox;
 class QLabel;

@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "core/pallet_metrics.hpp"
+#include "core/contract/pallet_metrics.hpp"
 #include "ui/pallet_document.hpp"
 #include "ui/replay_view.hpp"
 

@@ -8,7 +8,7 @@
 #include <QWidget>
 #include <vector>
 
-#include "core/pallet_config.hpp"
+#include "core/contract/pallet_config.hpp"
 #include "ui/stack_builder_model.hpp"
 
 namespace pb::ui {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "core/catalog.hpp"
-#include "core/pallet_metrics.hpp"
-#include "core/text.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/pallet_metrics.hpp"
+#include "core/inputs/catalog.hpp"
 
 namespace pb::ui {
 

@@ -10,9 +10,9 @@
 #include <string_view>
 #include <vector>
 
-#include "core/diagnostic.hpp"
-#include "core/pallet_config.hpp"
-#include "core/stack_builder.hpp"
+#include "core/base/diagnostic.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/inputs/stack_builder.hpp"
 
 namespace pb::ui {
 

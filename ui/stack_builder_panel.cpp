@@ -13,7 +13,7 @@
 #include <QSpinBox>
 #include <QVBoxLayout>
 
-#include "core/enums.hpp"
+#include "core/base/enums.hpp"
 #include "ui/catalog_list.hpp"
 #include "ui/pallet_document.hpp"
 #include "ui/stack_builder_grid.hpp"

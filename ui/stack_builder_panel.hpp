@@ -12,7 +12,7 @@
 
 #include <QWidget>
 
-#include "core/pallet_config.hpp"
+#include "core/contract/pallet_config.hpp"
 
 class QBoxLayout;
 class QComboBox;

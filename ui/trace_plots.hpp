@@ -2,8 +2,8 @@
 // Trace plots (Qt Charts) of one replay, linked to the replay cursor: pallet tilt, the largest item
 // displacement on the pallet, the load shift (largest change of an item-to-item distance) and the
 // pallet's slip on the belt, against time, each with its detector threshold as a dashed red line
-// and a vertical cursor line at the replay time. Measured with core/detectors.hpp on the replay's
-// frames, the first frame being the rest state (as the detectors' baselines).
+// and a vertical cursor line at the replay time. Measured with core/physics/detectors.hpp on the
+// replay's frames, the first frame being the rest state (as the detectors' baselines).
 //
 // Wiring (MainWindow):
 //   AnalysisService::solved(solve) / a replay file opened -> setReplay(replay)
@@ -14,8 +14,8 @@
 #include <array>
 #include <vector>
 
-#include "core/detectors.hpp"
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/physics/detectors.hpp"
 
 class QChart;
 class QLineSeries;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `palletballet-cli batch --n N --seed S [--threads T] [--out FILE]`: the batch study of random
-// pallets (core/batch_study.hpp). The full study (per pallet) goes to FILE or, without --out, to
-// stdout; with --out, stdout gets the summary only.
+// pallets (core/lab/batch_study.hpp). The full study (per pallet) goes to FILE or, without --out,
+// to stdout; with --out, stdout gets the summary only.
 #include <algorithm>
 #include <fstream>
 #include <iostream>
@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "app/cli/commands.hpp"
-#include "core/batch_study.hpp"
+#include "core/lab/batch_study.hpp"
 
 namespace pb::cli {
 

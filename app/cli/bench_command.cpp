@@ -14,12 +14,12 @@
 #include <thread>
 
 #include "app/cli/commands.hpp"
-#include "core/batch.hpp"
-#include "core/engine.hpp"
-#include "core/scenario.hpp"
-#include "core/scene.hpp"
-#include "core/simulate.hpp"
-#include "core/text.hpp"
+#include "core/base/text.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/physics/batch.hpp"
+#include "core/physics/engine.hpp"
+#include "core/physics/scene.hpp"
+#include "core/physics/simulate.hpp"
 
 namespace pb::cli {
 

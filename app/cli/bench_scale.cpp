@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "app/cli/commands.hpp"
-#include "core/analyzer.hpp"
-#include "core/catalog.hpp"
-#include "core/layer_layout.hpp"
-#include "core/probe_run.hpp"
-#include "core/text.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/base/text.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/layer_layout.hpp"
+#include "core/physics/probe_run.hpp"
 
 namespace pb::cli {
 

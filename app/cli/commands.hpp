@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "app/cli/args.hpp"
-#include "core/conveyor_profile.hpp"
-#include "core/diagnostic.hpp"
-#include "core/failure_map.hpp"
-#include "core/json_io.hpp"
-#include "core/pallet_config.hpp"
+#include "core/analysis/failure_map.hpp"
+#include "core/base/diagnostic.hpp"
+#include "core/contract/conveyor_profile.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/pallet_config.hpp"
 
 namespace pb::cli {
 

@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "app/cli/commands.hpp"
-#include "core/catalog.hpp"
-#include "core/friction.hpp"
-#include "core/pallet_metrics.hpp"
-#include "core/random_pallet.hpp"
-#include "core/result_json.hpp"
-#include "core/scenario.hpp"
-#include "core/validation.hpp"
+#include "core/analysis/result_json.hpp"
+#include "core/contract/pallet_metrics.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/friction.hpp"
+#include "core/inputs/random_pallet.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/inputs/validation.hpp"
 
 namespace pb::cli {
 

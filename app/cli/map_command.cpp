@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: MIT
 // `palletballet-cli map FILE`: the speed x start-up-acceleration failure map of one pallet, every
-// cell simulated in one batched call (core/failure_map.hpp says what a cell means).
+// cell simulated in one batched call (core/analysis/failure_map.hpp says what a cell means).
 #include <cmath>
 #include <iostream>
 #include <sstream>
 
 #include "app/cli/commands.hpp"
-#include "core/analyzer.hpp"
-#include "core/failure_map.hpp"
-#include "core/result_json.hpp"
-#include "core/text.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/analysis/failure_map.hpp"
+#include "core/analysis/result_json.hpp"
+#include "core/base/text.hpp"
 
 namespace pb::cli {
 

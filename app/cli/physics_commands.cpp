@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "app/cli/commands.hpp"
-#include "core/analyzer.hpp"
-#include "core/fidelity.hpp"
-#include "core/reference_search.hpp"
-#include "core/result_json.hpp"
-#include "core/scenario.hpp"
-#include "core/scene.hpp"
-#include "core/text.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/analysis/fidelity.hpp"
+#include "core/analysis/reference_search.hpp"
+#include "core/analysis/result_json.hpp"
+#include "core/base/text.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/physics/scene.hpp"
 
 namespace pb::cli {
 
@@ -150,7 +150,7 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
   return p;
 }
 
-// --fidelity: which model answers (core/fidelity.hpp); automatic when absent.
+// --fidelity: which model answers (core/analysis/fidelity.hpp); automatic when absent.
 Fidelity fidelity_option(const Args& args, const std::string& verb) {
   const auto text = args.text("fidelity");
   if (!text) return Fidelity::automatic;

@@ -11,10 +11,10 @@
 #include <sstream>
 
 #include "app/cli/commands.hpp"
-#include "core/fingerprint.hpp"
-#include "core/stability_study.hpp"
-#include "core/study.hpp"
-#include "core/text.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/fingerprint.hpp"
+#include "core/lab/stability_study.hpp"
+#include "core/lab/study.hpp"
 
 #ifdef PB_HAVE_STUDY_CHART
 #include "app/cli/chart/study_chart.hpp"

@@ -11,10 +11,10 @@
 #include <thread>
 
 #include "app/cli/commands.hpp"
-#include "core/analyzer.hpp"
-#include "core/random_pallet.hpp"
-#include "core/static_stability.hpp"
-#include "core/text.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/base/text.hpp"
+#include "core/inputs/random_pallet.hpp"
+#include "core/inputs/static_stability.hpp"
 
 namespace pb::cli {
 

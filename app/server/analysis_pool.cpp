@@ -3,8 +3,8 @@
 
 #include <algorithm>
 
-#include "core/fingerprint.hpp"
-#include "core/text.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/fingerprint.hpp"
 
 namespace pb::server {
 

@@ -2,7 +2,7 @@
 // The service's physics: a fixed set of Analyzers (one per concurrent analysis), leased to
 // requests, and one cache of envelopes shared by all of them, keyed by the pallet's fingerprint.
 // Every call runs under a Ticket: a deadline and a test of whether the client is still there; a
-// watchdog cancels the ticket's runs (core/cancel.hpp) when either fails.
+// watchdog cancels the ticket's runs (core/base/cancel.hpp) when either fails.
 #pragma once
 
 #include <atomic>
@@ -20,8 +20,8 @@
 #include <variant>
 #include <vector>
 
-#include "core/analyzer.hpp"
-#include "core/cancel.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/base/cancel.hpp"
 
 namespace pb::server {
 

@@ -11,10 +11,10 @@
 #include <thread>
 
 #include "app/server/http_server.hpp"
-#include "core/catalog.hpp"
-#include "core/json_io.hpp"
-#include "core/random_pallet.hpp"
-#include "core/scenario.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/random_pallet.hpp"
+#include "core/inputs/scenario.hpp"
 
 namespace pb::server {
 

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 
-#include "core/pallet_metrics.hpp"
-#include "core/pose.hpp"
+#include "core/base/pose.hpp"
+#include "core/contract/pallet_metrics.hpp"
 
 namespace pb::server {
 

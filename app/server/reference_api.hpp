@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "app/server/analysis_pool.hpp"
-#include "core/analyzer.hpp"
-#include "core/catalog.hpp"
-#include "core/friction.hpp"
-#include "core/json_io.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/friction.hpp"
+#include "core/inputs/scenario.hpp"
 
 namespace pb::server {
 

@@ -8,18 +8,18 @@
 #include <variant>
 
 #include "app/server/reference_api.hpp"
-#include "core/catalog.hpp"
-#include "core/explain.hpp"
-#include "core/friction.hpp"
-#include "core/json_io.hpp"
-#include "core/random_pallet.hpp"
-#include "core/replay.hpp"
-#include "core/result_json.hpp"
-#include "core/scenario.hpp"
-#include "core/scene.hpp"
-#include "core/text.hpp"
-#include "core/uncertainty.hpp"
-#include "core/validation.hpp"
+#include "core/analysis/explain.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/analysis/result_json.hpp"
+#include "core/analysis/uncertainty.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/friction.hpp"
+#include "core/inputs/random_pallet.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/inputs/validation.hpp"
+#include "core/physics/scene.hpp"
 
 namespace pb::server {
 

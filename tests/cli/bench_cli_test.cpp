@@ -23,8 +23,8 @@ class BenchCliTest : public QObject {
   Q_OBJECT
 
  private slots:
-  // The reference system's search (core/reference_search.hpp) runs after ours on the same pallet:
-  // its median wall time and the ratio to our envelope's, as positive numbers.
+  // The reference system's search (core/analysis/reference_search.hpp) runs after ours on the same
+  // pallet: its median wall time and the ratio to our envelope's, as positive numbers.
   void referenceColumns() {
     Run r = cli({"bench", "--scenario", "stable-dairy-slab", "--runs", "1", "--json"});
     QVERIFY2(r.exit_code == 0, r.err.constData());

@@ -9,8 +9,8 @@
 #include <fstream>
 
 #include "cli_runner.hpp"
-#include "core/json_io.hpp"
-#include "core/pallet_config.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/pallet_config.hpp"
 
 namespace {
 

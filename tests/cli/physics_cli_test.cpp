@@ -13,9 +13,9 @@
 #include <cmath>
 #include <string>
 
-#include "core/engine.hpp"
-#include "core/json_io.hpp"
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/physics/engine.hpp"
 
 #include "cli_runner.hpp"
 

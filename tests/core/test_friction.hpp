@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "core/friction.hpp"
+#include "core/inputs/friction.hpp"
 
 namespace pb::test {
 

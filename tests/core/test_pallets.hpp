@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/pallet_config.hpp"
+#include "core/contract/pallet_config.hpp"
 
 namespace pb::test {
 

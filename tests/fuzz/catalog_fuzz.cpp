@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Fuzz target: an SKU catalog in CSV. Reads it and, when it is accepted, looks up and lists its
 // SKUs and builds an item of each, as the stack builder does.
-#include "core/catalog.hpp"
+#include "core/inputs/catalog.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -2,7 +2,7 @@
 // Fuzz target: a friction table in the reference's format. Reads it and, when it is accepted, asks
 // it what the console and the physics ask: every pair's friction at, between and beyond its control
 // points, with and without the frost-melt penalty, and its curve.
-#include "core/friction.hpp"
+#include "core/inputs/friction.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -5,10 +5,10 @@
 // throw, whatever the bytes.
 #include <cstdlib>
 
-#include "core/fingerprint.hpp"
-#include "core/json_io.hpp"
-#include "core/scenario.hpp"
-#include "core/validation.hpp"
+#include "core/contract/fingerprint.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/inputs/validation.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 namespace {

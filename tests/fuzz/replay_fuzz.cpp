@@ -4,8 +4,8 @@
 // back: the written form must read back to the same text.
 #include <cstdlib>
 
-#include "core/json_io.hpp"
-#include "core/replay.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/contract/json_io.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # run_fuzzer.sh TARGET WORKDIR SECONDS CORPUS REGRESSIONS: runs a libFuzzer target for SECONDS on
 # its committed corpus and regressions, writing new inputs and any crash to WORKDIR (never to the
 # committed corpus). Exits non-zero on a crash, leak, sanitizer report or an input over 1 s.

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "app/server/service.hpp"
-#include "core/json_io.hpp"
+#include "core/contract/json_io.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 namespace {

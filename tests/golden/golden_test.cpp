@@ -9,11 +9,11 @@
 
 #include <fstream>
 
-#include "core/analyzer.hpp"
-#include "core/json_io.hpp"
-#include "core/replay.hpp"
-#include "core/scenario.hpp"
-#include "core/sha256.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/base/sha256.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/scenario.hpp"
 
 using namespace pb;
 

@@ -8,11 +8,11 @@
 #include <thread>
 #include <vector>
 
-#include "core/analyzer.hpp"
-#include "core/catalog.hpp"
-#include "core/json_io.hpp"
-#include "core/random_pallet.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/random_pallet.hpp"
+#include "core/inputs/scenario.hpp"
 #include "tests/server/server_runner.hpp"
 
 using pb::test::body_of;

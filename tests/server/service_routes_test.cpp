@@ -4,9 +4,9 @@
 // a sentence that names what to change.
 #include <QtTest>
 
-#include "core/analyzer.hpp"
-#include "core/json_io.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/inputs/scenario.hpp"
 #include "tests/server/server_runner.hpp"
 
 using pb::test::body_of;

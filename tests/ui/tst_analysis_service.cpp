@@ -8,7 +8,7 @@
 #include <QTimer>
 #include <algorithm>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/analysis_service.hpp"
 
 using pb::ui::AnalysisService;

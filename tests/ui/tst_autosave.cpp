@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/autosave.hpp"
 #include "ui/file_actions.hpp"
 #include "ui/pallet_document.hpp"

@@ -9,7 +9,7 @@
 #include <QScatterSeries>
 #include <QtTest>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/friction_chart.hpp"
 
 using namespace pb;

@@ -12,7 +12,7 @@
 #include <QTest>
 #include <QtCharts/QLineSeries>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/console_screenshot.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"

@@ -7,8 +7,8 @@
 #include <QTest>
 #include <cmath>
 
-#include "core/analyzer.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/replay_view.hpp"
 
 using pb::ui::ReplayView;

@@ -15,7 +15,7 @@
 #include <QTest>
 #include <QtCharts/QLineSeries>
 
-#include "core/scenario.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/dial_panel.hpp"
 #include "ui/failure_map_view.hpp"
 #include "ui/main_window.hpp"

@@ -12,12 +12,12 @@
 #include <csignal>
 #include <functional>
 
-#include "core/catalog.hpp"
-#include "core/json_io.hpp"
-#include "core/pallet_metrics.hpp"
-#include "core/pallet_type.hpp"
-#include "core/scenario.hpp"
-#include "core/validation.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/pallet_metrics.hpp"
+#include "core/contract/pallet_type.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/inputs/validation.hpp"
 #include "ui/file_actions.hpp"
 #include "ui/pallet_document.hpp"
 #include "ui/recent_files.hpp"

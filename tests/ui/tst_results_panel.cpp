@@ -4,8 +4,8 @@
 #include <QDir>
 #include <QtTest>
 
-#include "core/explain.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/explain.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/failure_map_view.hpp"
 #include "ui/results_panel.hpp"
 

@@ -11,11 +11,11 @@
 #include <QSpinBox>
 #include <QTest>
 
-#include "core/catalog.hpp"
-#include "core/pallet_metrics.hpp"
-#include "core/scenario.hpp"
-#include "core/stack_builder.hpp"
-#include "core/validation.hpp"
+#include "core/contract/pallet_metrics.hpp"
+#include "core/inputs/catalog.hpp"
+#include "core/inputs/scenario.hpp"
+#include "core/inputs/stack_builder.hpp"
+#include "core/inputs/validation.hpp"
 #include "ui/catalog_list.hpp"
 #include "ui/pallet_document.hpp"
 #include "ui/scenario_picker.hpp"

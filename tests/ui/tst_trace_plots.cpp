@@ -9,8 +9,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/analyzer.hpp"
-#include "core/scenario.hpp"
+#include "core/analysis/analyzer.hpp"
+#include "core/inputs/scenario.hpp"
 #include "ui/trace_plots.hpp"
 
 using namespace pb;

@@ -1,0 +1,156 @@
+// SPDX-License-Identifier: MIT
+// The front door of the physics core: compile once, settle once, probe many — with compiled
+// scenes, rest states and results cached by the fingerprint of the physically relevant fields.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/analysis/envelope.hpp"
+#include "core/analysis/failure_map.hpp"
+#include "core/analysis/fidelity.hpp"
+#include "core/analysis/replay.hpp"
+#include "core/analysis/uncertainty.hpp"
+#include "core/inputs/friction.hpp"
+#include "core/physics/quasi_static.hpp"
+#include "core/physics/scene.hpp"
+#include "core/physics/simulate.hpp"
+#include "core/physics/symmetry.hpp"
+
+namespace pb {
+
+struct AnalyzerOptions {
+  SceneOptions scene;
+  SettleOptions settle;
+  SimOptions sim;
+  LineDescription line;
+  SearchConfig search;
+  /// Which model answers (reported in SafetyResult::fidelity); automatic = the cheapest level
+  /// whose agreement with the full model is established for pallets of that kind.
+  Fidelity fidelity = Fidelity::automatic;
+  /// The full model's own timestep (the numerics are part of a level): where the full model runs
+  /// it steps at this, the reduced model at scene.timestep_s. 1 ms because the full model of an
+  /// unwrapped load at 2 ms lands 1.2-1.7 search steps from the reference configuration on the
+  /// tall and top-heavy scenarios (on both sides: a stop limit above the reference's), at 1 ms
+  /// within 0.77 (core/README.md, `study speed-accuracy`). nullopt: scene.timestep_s for every
+  /// level (what the study's fixed-timestep configurations and the reference use).
+  std::optional<double> full_model_timestep_s = 0.001;
+  /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
+  /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
+  UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
+  /// Where the automatic level is the full model, a load of identical stacks side by side across a
+  /// probe's plane is searched on one copy of each (symmetry.hpp: reduce_symmetric_stacks), per
+  /// plane; solves, maps and confidence still run every item. Off for an explicitly requested
+  /// level and for the reference configurations.
+  bool symmetry_reduction = true;
+};
+
+/// How long Analyzer::solve follows a failure at most (SimOptions::follow_failure_s).
+inline constexpr double kSolveAftermathS = 3.0;
+
+/// A symmetry-reduced model of a pallet for the probes of one plane, compiled and settled.
+struct PlaneModel {
+  LoadReduction reduction;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Simulator> simulator;
+  RestState rest;
+};
+
+/// A compiled, settled pallet: everything a probe needs.
+struct PreparedPallet {
+  std::string fingerprint;
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Simulator> simulator;
+  RestState rest;
+  QuasiStaticBounds bounds;
+  FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
+  double prepare_ms = 0.0;  ///< compile + settle wall time
+  /// The envelope searches' models along the belt and across it ([0], [1]) where the load reduces
+  /// by symmetry (AnalyzerOptions::symmetry_reduction); null: the probes run on `scene`.
+  std::array<std::unique_ptr<PlaneModel>, 2> planes;
+  /// The same scene with whatever touches colliding (SceneOptions::aftermath), compiled the first
+  /// time a solve fails, to follow the wreck; `aftermath_problem` says why there is none.
+  std::unique_ptr<Scene> aftermath_scene;
+  std::unique_ptr<Simulator> aftermath_simulator;
+  std::string aftermath_problem;
+};
+
+/// One conveyor profile, simulated, with its replay.
+struct Solve {
+  SimResult sim;
+  Replay replay;
+};
+
+/// Not thread-safe: one Analyzer per thread (the console runs its own on a worker thread).
+class Analyzer {
+ public:
+  explicit Analyzer(AnalyzerOptions options = {},
+                    const FrictionModel& friction = FrictionModel::builtin());
+
+  /// The compiled and settled pallet (cached). Fails for an invalid pallet, an engine error, or a
+  /// load that will not come to rest (a build defect).
+  Result<PreparedPallet*> prepare(const PalletConfig& config);
+
+  /// The full SafetyResult (cached: a second call costs about a millisecond and reports 0 sims).
+  Result<SafetyResult> analyze(const PalletConfig& config);
+  /// The envelope with its probes (not cached).
+  Result<Envelope> envelope(const PalletConfig& config);
+  /// The speed x start-up-acceleration failure map in one batched call (failure_map.hpp; not
+  /// cached), with the analyzer's line, search and simulation options.
+  Result<FailureMap> failure_map(const PalletConfig& config, const MapOptions& options = {});
+
+  /// Runs one profile from rest with a full trace and a replay at `replay_hz`. The outcome and
+  /// failure are the first detector crossing, on the model the searches use. A failed run is then
+  /// run again on the aftermath model (SceneOptions::aftermath: cartons land on the deck, each
+  /// other and the belt) to follow the wreck until the load moves with the belt again or
+  /// kSolveAftermathS after the failure, past the profile's end if need be; its trace is the
+  /// replay's when it reproduces the verdict (the same mode, time and items, as it must: nothing
+  /// differs until something touches that no pair covers). SimResult::aftermath_cut says why a
+  /// replay ends at the failure instead.
+  Result<Solve> solve(const PalletConfig& config, const ConveyorProfile& profile,
+                      double replay_hz = 30.0);
+
+  const AnalyzerOptions& options() const { return options_; }
+  /// Every later run checks `flag` (settle and probes: cancel.hpp); a call cancelled part-way
+  /// fails with a diagnostic whose message contains "cancelled" and caches nothing of its work.
+  /// nullptr: runs are not cancellable. The flag must outlive the calls that use it.
+  void set_cancel(const CancelFlag* flag);
+  int cache_hits() const { return cache_hits_; }
+  /// Pallets prepared and kept (each holds its compiled scene and simulation data).
+  std::size_t cached_pallets() const { return prepared_.size(); }
+  void clear_cache();
+
+ private:
+  /// The scene numerics of a model level (merge for reduced and clustered; the full model's own
+  /// timestep wherever an item is free).
+  SceneOptions scene_options_for(const FidelityChoice& choice) const;
+
+  /// The symmetry-reduced model of `config` for `plane` (PreparedPallet::planes), or null when
+  /// the load does not reduce or the reduced model cannot be settled (the full model then runs).
+  std::unique_ptr<PlaneModel> plane_model(const PalletConfig& config, ProbePlane plane,
+                                          const SceneOptions& scene_options);
+
+  /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops
+  /// its prepared scene and says to run again; false when `why` is something else or the buffers
+  /// were doubled three times already.
+  bool grow_buffers(std::string key, const Diagnostics& why);
+
+  /// Replaces a failed `verdict` by the same run on the pallet's aftermath model, followed past
+  /// the failure, when that run reproduces the verdict; otherwise says why not in aftermath_cut.
+  void follow_wreck(const PalletConfig& config, PreparedPallet& p, const ConveyorProfile& profile,
+                    SimOptions o, SimResult& verdict);
+
+  AnalyzerOptions options_;
+  const FrictionModel* friction_;
+  std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;
+  std::map<std::string, SafetyResult> results_;
+  /// Per fingerprint, the buffer growth a contact or constraint overflow asked for (doubled per
+  /// overflow; the scene is rebuilt and the run repeated, never answered from the overflow).
+  std::map<std::string, double> buffer_scale_;
+  int cache_hits_ = 0;
+};
+
+}  // namespace pb

@@ -1,0 +1,767 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/envelope.hpp"
+#include "core/analysis/fidelity.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/pallet_metrics.hpp"
+#include "core/physics/probe_batch.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <functional>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+namespace pb {
+
+std::string_view to_string(Axis axis) {
+  switch (axis) {
+    case Axis::accel:
+      return "accel";
+    case Axis::decel:
+      return "decel";
+    case Axis::lateral:
+      return "lateral";
+    case Axis::speed:
+      return "speed";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kSettleLead = 0.05;  // s at steady speed before a stop or a curve begins
+
+struct ProbeVerdict {
+  bool failed = false;
+  FailureMode mode = FailureMode::no_failure;
+};
+
+// One axis: probe near the seed, step outwards (doubling) until the boundary is bracketed, then
+// bisect to the precision. Failure is assumed monotone along the axis. With a batch function and
+// k > 1 the bracket is narrowed by k-section instead: each round probes k points of the bisection
+// grid of the bracket at once (one batched call), so rounds drop from log2 n to log_{k+1} n; the
+// walk that brackets the boundary takes its next k points per round.
+class AxisSearch {
+ public:
+  using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
+  /// One verdict per value, in order; nullopt when any probe was unstable (or the batch failed).
+  using BatchFn =
+      std::function<std::optional<std::vector<ProbeVerdict>>(const std::vector<double>&)>;
+
+  AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true,
+             BatchFn batch = {}, int k = 1)
+      : min_(lo),
+        max_(hi),
+        precision_(precision),
+        probe_(std::move(probe)),
+        seeded_(seeded),
+        batch_(std::move(batch)),
+        k_(k) {}
+
+  // nullopt when a probe was unstable.
+  std::optional<AxisLimit> run(double seed) {
+    AxisLimit out;
+    out.closed_form = seed;
+    std::optional<double> safe, fail;
+    FailureMode fail_mode = FailureMode::no_failure;
+    auto record = [&](double x, const ProbeVerdict& v) {
+      ++out.probes;
+      if (v.failed) {
+        if (!fail || x < *fail) {
+          fail = x;
+          fail_mode = v.mode;
+        }
+      } else if (!safe || x > *safe) {
+        safe = x;
+      }
+    };
+    auto test = [&](double x) -> std::optional<bool> {
+      auto v = probe_(x);
+      if (!v) {
+        ++out.probes;
+        return std::nullopt;
+      }
+      record(x, *v);
+      return v->failed;
+    };
+    // One batched round: every verdict recorded; nullopt when a probe was unstable.
+    auto round = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
+      auto verdicts = batch_(xs);
+      if (!verdicts) {
+        out.probes += int(xs.size());
+        return std::nullopt;
+      }
+      for (std::size_t t = 0; t < xs.size(); ++t) record(xs[t], (*verdicts)[t]);
+      return verdicts;
+    };
+    // k-section over the points bisection of [a, b] could probe (a and b known already).
+    auto k_section = [&](double a, double b) -> bool {
+      std::vector<double> grid{a};
+      bisection_grid(a, b, 0, grid);
+      std::size_t i = 0, j = grid.size() - 1;
+      while (j - i > 1) {
+        const std::size_t m = std::min(std::size_t(k_), j - i - 1);
+        std::vector<std::size_t> idx;
+        for (std::size_t t = 1; t <= m; ++t) {
+          const auto n = i + std::size_t(std::lround(double(t) * double(j - i) / double(m + 1)));
+          if (n > i && n < j && (idx.empty() || n > idx.back())) idx.push_back(n);
+        }
+        std::vector<double> xs;
+        for (std::size_t n : idx) xs.push_back(grid[n]);
+        auto verdicts = round(xs);
+        if (!verdicts) return false;
+        std::size_t new_j = j, new_i = i;
+        for (std::size_t t = 0; t < idx.size(); ++t) {
+          if ((*verdicts)[t].failed && new_j == j) new_j = idx[t];
+        }
+        for (std::size_t t = 0; t < idx.size(); ++t) {
+          if (!(*verdicts)[t].failed && idx[t] < new_j) new_i = std::max(new_i, idx[t]);
+        }
+        i = new_i;
+        j = new_j;
+      }
+      return true;
+    };
+    const bool sectioned = batch_ && k_ > 1;
+    if (!seeded_) {  // the reference's plain bisection over the whole range
+      double lo = min_, hi = max_;
+      if (sectioned && !k_section(lo, hi)) return std::nullopt;
+      while (!sectioned && hi - lo > precision_) {
+        const double mid = 0.5 * (lo + hi);
+        auto r = test(mid);
+        if (!r) return std::nullopt;
+        (*r ? hi : lo) = mid;
+      }
+      // The ends are only tried when the bisection never left them (a floor or ceiling answer).
+      if (!safe && !test(min_)) return std::nullopt;
+      if (!fail && !test(max_)) return std::nullopt;
+      return finish(out, safe, fail, fail_mode);
+    }
+    const double first = std::clamp(seed, min_, max_);
+    auto r = test(first);
+    if (!r) return std::nullopt;
+    double step = precision_;
+    if (sectioned) {
+      // The walk in rounds of the next k points the serial walk would probe (the range's end
+      // last, when the walk reaches it): under monotone failure the first failing (walking up)
+      // or safe (walking down) one is where the serial walk stops, so the bracket is the same.
+      const bool up = !*r;
+      while (up ? !fail : !safe) {
+        std::vector<double> xs;
+        bool last = false;
+        for (double from = up ? *safe : *fail; int(xs.size()) < k_;) {
+          const double x = up ? from + step : from - step;
+          if (up ? x < max_ : x > min_) {
+            xs.push_back(x);
+            from = x;
+            step *= 2;
+          } else {
+            if (up ? first < max_ : first > min_) xs.push_back(up ? max_ : min_);
+            last = true;
+            break;
+          }
+        }
+        if (!xs.empty() && !round(xs)) return std::nullopt;
+        if (last) break;
+      }
+    } else if (*r) {  // failed: walk down
+      for (double x = first - step; !safe && x > min_; step *= 2, x = *fail - step) {
+        if (!test(x)) return std::nullopt;
+      }
+      if (!safe && first > min_ && !test(min_)) return std::nullopt;
+    } else {  // safe: walk up
+      for (double x = first + step; !fail && x < max_; step *= 2, x = *safe + step) {
+        if (!test(x)) return std::nullopt;
+      }
+      if (!fail && first < max_ && !test(max_)) return std::nullopt;
+    }
+    if (sectioned && safe && fail && *fail - *safe > precision_) {
+      if (!k_section(*safe, *fail)) return std::nullopt;
+    }
+    while (!sectioned && safe && fail && *fail - *safe > precision_) {
+      if (!test(0.5 * (*safe + *fail))) return std::nullopt;
+    }
+    return finish(out, safe, fail, fail_mode);
+  }
+
+ private:
+  // Appends the points bisection of [a, b] to the precision can probe after a, ascending, b
+  // last: the same expressions as the bisection, so the same doubles and, when failure is
+  // monotone, the same limit.
+  void bisection_grid(double a, double b, int depth, std::vector<double>& out) const {
+    if (b - a > precision_ && depth < kMaxDepth) {
+      const double m = 0.5 * (a + b);
+      bisection_grid(a, m, depth + 1, out);
+      bisection_grid(m, b, depth + 1, out);
+    } else {
+      out.push_back(b);
+    }
+  }
+  static constexpr int kMaxDepth = 16;  // 65537 points: far finer than any search needs
+
+  static AxisLimit finish(AxisLimit out, std::optional<double> safe, std::optional<double> fail,
+                          FailureMode fail_mode) {
+    out.at_ceiling = !fail;
+    out.at_floor = !safe;
+    out.limit = safe.value_or(0.0);
+    out.mode = fail ? fail_mode : FailureMode::no_failure;
+    return out;
+  }
+
+  double min_, max_, precision_;
+  ProbeFn probe_;
+  bool seeded_ = true;
+  BatchFn batch_;
+  int k_ = 1;
+};
+
+// How far up its search range a limit sits, in [0, 1].
+double normalised(const AxisLimit& a, double lo, double hi) {
+  if (a.at_ceiling) return 1.0;
+  return std::clamp((a.limit - lo) / (hi - lo), 0.0, 1.0);
+}
+
+// Speed from which a stop at `decel` makes a slip of friction `mu` slide `distance`:
+// d_slide = v^2 / 2 (1 / (mu g) - 1 / decel).
+double slide_speed(double mu, double decel, double distance) {
+  const double k = 1.0 / (mu * kGravity) - 1.0 / decel;
+  return k > 0.0 ? std::sqrt(2.0 * distance / k) : 1e9;
+}
+
+// The belt-relative slide of a load held by Coulomb friction of onset mu_g (m/s^2) when the belt's
+// acceleration steps to `a` for `duration_s` and back to zero: it lags at a - mu g during the
+// step and catches up at mu g after it. (For an e-stop from v, T = v / a, this is slide_speed's
+// v^2 / 2 (1 / (mu g) - 1 / a).)
+double coulomb_slide_m(double mu_g, double a, double duration_s) {
+  if (a <= mu_g || mu_g <= 0.0) return a > mu_g ? 1e9 : 0.0;
+  const double lag = (a - mu_g) * duration_s;
+  return 0.5 * lag * duration_s + lag * lag / (2.0 * mu_g);
+}
+
+// How far a mechanism's slip may travel before its detector fires; 0 for a tip.
+double slide_allowance_m(Mechanism m, const DetectorThresholds& t) {
+  switch (m) {
+    case Mechanism::pallet_slip:
+      return t.pallet_slip_m;
+    case Mechanism::item_slip_on_deck:
+      return t.item_slide_m;
+    case Mechanism::item_slip_on_item:  // its distance to the item below changes as it slides
+      return std::min(t.item_slide_m, t.load_shift_m);
+    case Mechanism::load_tip:
+    case Mechanism::stack_tip:
+      return 0.0;
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
+                            double hi, const std::function<double(double)>& step_duration_s,
+                            const DetectorThresholds& thresholds) {
+  AxisPrediction out{hi, FailureMode::no_failure};
+  for (const QuasiStaticLimit& m : mechanisms) {
+    const double onset = m.accel_mps2 / unit;
+    double at = onset;
+    if (const double allowance = slide_allowance_m(m.mechanism, thresholds); allowance > 0.0) {
+      // The slide grows with the demand for every probe shape (d/da of a ramp to v's slide is
+      // 2 / a^2 > 0; a curve's and a stop's likewise), so bisection finds where it reaches the
+      // allowance.
+      auto slide = [&](double x) {
+        return coulomb_slide_m(m.accel_mps2, x * unit, step_duration_s(x));
+      };
+      if (onset >= hi || slide(hi) < allowance) continue;
+      double a = std::max(onset, lo), b = hi;
+      for (int i = 0; i < 60 && b - a > 1e-9 * hi; ++i) {
+        const double mid = 0.5 * (a + b);
+        (slide(mid) < allowance ? a : b) = mid;
+      }
+      at = b;
+    }
+    if (at < out.value) out = {at, m.mode};
+  }
+  return out;
+}
+
+ConveyorProfile accel_probe_profile(double accel, const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::accel_hold;
+  p.accel_mps2 = accel;
+  p.target_speed_mps = std::min(s.speed_max_mps, accel * s.max_ramp_s);
+  p.duration_s = p.target_speed_mps / accel + s.hold_s;
+  return p;
+}
+
+ConveyorProfile decel_probe_profile(double decel, double speed, const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::estop;
+  p.target_speed_mps = speed;
+  p.decel_mps2 = decel;
+  p.decel_start_s = kSettleLead;
+  p.duration_s = kSettleLead + speed / decel + s.hold_s;
+  return p;
+}
+
+ConveyorProfile stop_probe_profile(double speed, const LineDescription& line,
+                                   const SearchConfig& s) {
+  return decel_probe_profile(line.estop_decel_mps2, speed, s);
+}
+
+ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
+                                      const SearchConfig& s) {
+  ConveyorProfile p;
+  p.shape = ProfileShape::curve;
+  p.curve_radius_m = line.curve_radius_m;
+  p.target_speed_mps = std::min(5.0, std::sqrt(lateral_g * kGravity * line.curve_radius_m));
+  // The lateral acceleration is what matters; a long arc at a low speed is capped at max_ramp_s.
+  const double arc_s =
+      line.curve_radius_m * line.curve_angle_deg * std::numbers::pi / 180.0 / p.target_speed_mps;
+  const double t = std::min(arc_s, s.max_ramp_s);
+  p.curve_angle_deg = line.curve_angle_deg * t / arc_s;
+  p.curve_start_s = kSettleLead;
+  p.duration_s = kSettleLead + t + s.hold_s;
+  return p;
+}
+
+AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& s, const DetectorThresholds& thresholds) {
+  AxisPredictions p;
+  if (!bounds.one_body()) {  // items can slide and rock: the onsets (see the header)
+    const QuasiStaticLimit along = bounds.weakest_along(), across = bounds.weakest_across();
+    p.accel = p.decel = {along.accel_mps2, along.mode};
+    p.lateral = {across.accel_mps2 / kGravity, across.mode};
+    return p;
+  }
+  p.accel = predict_axis(
+      bounds.along, 1.0, s.accel_min_mps2, s.accel_max_mps2,
+      [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
+  p.decel = predict_axis(
+      bounds.along, 1.0, s.decel_min_mps2, s.decel_max_mps2,
+      [&](double d) { return s.speed_max_mps / d; }, thresholds);
+  p.lateral = predict_axis(
+      bounds.across, kGravity, s.lateral_min_g, s.lateral_max_g,
+      [&](double g) {
+        return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
+      },
+      thresholds);
+  return p;
+}
+
+namespace {
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s);
+void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
+}  // namespace
+
+namespace {
+
+// One axis's search, independent of the others: what it found, the probes it ran, and why it
+// stopped if a probe was unstable or the batched probes could not run.
+struct AxisTask {
+  Axis axis = Axis::accel;
+  double lo = 0.0, hi = 0.0, precision = 0.0;
+  double seed = 0.0;
+  double closed_form = 0.0;  ///< the prediction the seed came from
+  std::function<ConveyorProfile(double)> profile;
+};
+
+struct AxisOutcome {
+  std::optional<AxisLimit> limit;
+  std::vector<Probe> probes;
+  std::optional<std::string> unstable;
+  std::optional<std::string> batch_error;
+  std::optional<std::string> error;  ///< an exception ended the search (out of memory, say)
+};
+
+Probe make_probe(Axis axis, double x, const SimResult& r) {
+  return Probe{axis,
+               x,
+               r.outcome,
+               r.failure ? r.failure->mode : FailureMode::no_failure,
+               r.failure ? r.failure->time_s : 0.0,
+               r.wall_ms,
+               r.steps - r.steps_skipped,
+               r.sim_time_s};
+}
+
+// Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
+AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
+                        const SimOptions& o, bool seeded, int k) {
+  AxisOutcome out;
+  auto unstable_at = [&](double x, const SimResult& r) {
+    if (!out.unstable) {
+      out.unstable = std::string(to_string(t.axis)) + " probe at " + fixed(x, 3) + ": " + r.reason;
+    }
+  };
+  auto probe = [&](double x) -> std::optional<ProbeVerdict> {
+    const SimResult r = simulator.run(rest, t.profile(x), o);
+    out.probes.push_back(make_probe(t.axis, x, r));
+    if (r.outcome == Outcome::unstable) {
+      unstable_at(x, r);
+      return std::nullopt;
+    }
+    return ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode};
+  };
+  auto batch = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
+    std::vector<ConveyorProfile> profiles;
+    for (double x : xs) profiles.push_back(t.profile(x));
+    auto runs = run_probes_batched(simulator.scene(), rest, profiles, o, k);
+    if (!runs) {
+      out.batch_error =
+          std::string(to_string(t.axis)) + " probes: " +
+          (runs.diagnostics.empty() ? std::string("unknown error") : runs.diagnostics[0].message);
+      return std::nullopt;
+    }
+    std::vector<ProbeVerdict> verdicts;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const SimResult& r = (*runs.value)[i];
+      out.probes.push_back(make_probe(t.axis, xs[i], r));
+      if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
+      verdicts.push_back(ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode});
+    }
+    if (out.unstable) return std::nullopt;
+    return verdicts;
+  };
+  out.limit = AxisSearch(t.lo, t.hi, t.precision, probe, seeded, batch, k).run(t.seed);
+  if (out.limit) out.limit->closed_form = t.closed_form;
+  return out;
+}
+
+int resolved_threads(int requested) {
+  return requested == 0 ? std::max(1, int(std::thread::hardware_concurrency())) : requested;
+}
+
+}  // namespace
+
+Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
+                                 const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& s, const SimOptions& sim_options) {
+  const ProbeModel model{&simulator, &rest};
+  return search_envelope(model, model, simulator.scene().config, bounds, line, s, sim_options);
+}
+
+Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel& across_model,
+                                 const PalletConfig& config, const QuasiStaticBounds& bounds,
+                                 const LineDescription& line, const SearchConfig& s,
+                                 const SimOptions& sim_options) {
+  const auto start = std::chrono::steady_clock::now();
+  Envelope env;
+  env.rest = *along_model.rest;
+  auto model_of = [&](Axis axis) { return axis == Axis::lateral ? across_model : along_model; };
+  SimOptions o = sim_options;
+  o.record_trace = false;
+  o.fail_fast = true;
+  if (s.parallel_probes < 0) {
+    return Result<Envelope>::failure(
+        "/search/parallel_probes",
+        "must be 0 (one per free core), 1 (serial bisection) or more, not " +
+            std::to_string(s.parallel_probes));
+  }
+  if (s.axis_threads < 0) {
+    return Result<Envelope>::failure(
+        "/search/axis_threads",
+        "must be 0 (one per axis), 1 (one axis after another) or more, not " +
+            std::to_string(s.axis_threads));
+  }
+  const int k = resolved_threads(s.parallel_probes);
+
+  const QuasiStaticLimit along = bounds.weakest_along();
+  // Speed: the fastest speed from which the line's e-stop is survived. Below the quasi-static
+  // bound nothing slides and any speed is safe; above it the slide grows with v^2.
+  double speed_seed = s.speed_max_mps;
+  if (line.estop_decel_mps2 > along.accel_mps2) {
+    const bool slip = along.mode == FailureMode::pallet_slip;
+    speed_seed = along.mode == FailureMode::tip_over
+                     ? s.speed_min_mps
+                     : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+                                   slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
+  }
+  // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
+  // mechanisms are the pallet slipping and the whole load tipping) fails monotonically, so its
+  // search starts where the closed form predicts the probe fails (half a step below, so that an
+  // exact prediction brackets the limit in two probes; at the ceiling when nothing is predicted to
+  // fail in range). A load whose items can slide and rock may fail in bands (tall-unwrapped and
+  // top-heavy loads do): its search walks up from just above the weakest onset, so the first
+  // failure above the onset is the one it finds.
+  const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
+  const bool one_body = bounds.one_body();
+  auto seed = [&](const AxisPrediction& p, double hi, double precision) {
+    if (!one_body) return p.value + precision;  // the prediction is the weakest onset
+    return p.value >= hi ? hi : p.value - 0.5 * precision;
+  };
+  const std::vector<AxisTask> tasks{
+      {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
+       seed(predicted.accel, s.accel_max_mps2, s.accel_precision_mps2), predicted.accel.value,
+       [&](double a) { return accel_probe_profile(a, s); }},
+      {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
+       seed(predicted.decel, s.decel_max_mps2, s.decel_precision_mps2), predicted.decel.value,
+       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
+      {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
+       seed(predicted.lateral, s.lateral_max_g, s.lateral_precision_g), predicted.lateral.value,
+       [&](double g) { return lateral_probe_profile(g, line, s); }},
+      {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed, speed_seed,
+       [&](double v) { return stop_probe_profile(v, line, s); }},
+  };
+  std::vector<AxisOutcome> outcomes(tasks.size());
+  // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
+  // search and the e-stop speed for the stop search; each is searched only if it cannot be taken.
+  const bool mirror = s.derive_axes && s.accel_min_mps2 == s.decel_min_mps2 &&
+                      s.accel_max_mps2 == s.decel_max_mps2 &&
+                      s.accel_precision_mps2 == s.decel_precision_mps2 &&
+                      mirror_symmetric_along(config);
+  const bool from_stop = s.derive_axes && line.estop_decel_mps2 >= s.decel_min_mps2 &&
+                         line.estop_decel_mps2 <= s.decel_max_mps2;
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    if (!(mirror && tasks[i].axis == Axis::decel) && !(from_stop && tasks[i].axis == Axis::speed)) {
+      order.push_back(i);
+    }
+  }
+  // Runs axis task i on its plane's model (serially, on the model's own simulator).
+  auto search = [&](std::size_t i) {
+    const ProbeModel m = model_of(tasks[i].axis);
+    return search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k);
+  };
+  const double data_bytes =
+      std::max({1.0, along_model.simulator->data_bytes(), across_model.simulator->data_bytes()});
+  const int fit = std::max(1, int(s.axis_memory_bytes / data_bytes));
+  const int threads = std::min(
+      fit, s.axis_threads == 0 ? int(order.size()) : std::min(s.axis_threads, int(order.size())));
+  if (threads <= 1) {
+    for (std::size_t i : order) {
+      outcomes[i] = search(i);
+      if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
+    }
+  } else {
+    // Axes are independent: each worker takes the next axis on an mjData of its own for that
+    // axis's model (a probe loads the whole rest state, so it is bitwise the probe the serial
+    // search runs). The calling thread uses the models' simulators; the others make theirs.
+    std::atomic<std::size_t> next{0};
+    auto work = [&](bool caller) {
+      std::map<const Scene*, std::unique_ptr<Simulator>> own;
+      auto simulator_for = [&](Simulator& model) -> Simulator& {
+        if (caller) return model;
+        auto& mine = own[&model.scene()];
+        if (!mine) {
+          auto created = Simulator::create(model.scene());
+          if (!created) {
+            throw std::runtime_error(created.diagnostics.empty()
+                                         ? std::string("no simulation data")
+                                         : created.diagnostics.front().message);
+          }
+          mine = std::make_unique<Simulator>(std::move(*created.value));
+        }
+        return *mine;
+      };
+      for (std::size_t n = next++; n < order.size(); n = next++) {
+        const std::size_t i = order[n];
+        try {  // an exception must not leave a thread (std::terminate): it fails its axis
+          const ProbeModel m = model_of(tasks[i].axis);
+          outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
+                                    s.seed_with_closed_form, k);
+        } catch (const std::exception& e) {
+          outcomes[i] = {};
+          outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < threads; ++w) pool.emplace_back(work, false);
+    work(true);
+    for (auto& t : pool) t.join();
+  }
+  AxisOutcome& up = outcomes[0];
+  AxisOutcome& down = outcomes[1];
+  AxisOutcome& estop = outcomes[3];
+  if (mirror && up.limit) {
+    const double full_ramp = s.speed_max_mps / s.max_ramp_s;  // the slowest a ramp reaches speed
+    const bool pulses = std::all_of(up.probes.begin(), up.probes.end(),
+                                    [&](const Probe& p) { return p.value >= full_ramp; });
+    if (pulses) {
+      down.limit = up.limit;
+      down.limit->closed_form = tasks[1].closed_form;
+      down.limit->probes = 0;
+      down.limit->derived = true;
+    } else {
+      down = search(1);
+    }
+  }
+  if (from_stop && down.limit && outcomes[2].limit) {
+    if (down.limit->at_ceiling || down.limit->limit >= line.estop_decel_mps2) {
+      estop.limit = AxisLimit{};
+      estop.limit->limit = s.speed_max_mps;
+      estop.limit->at_ceiling = true;
+      estop.limit->closed_form = tasks[3].closed_form;
+      estop.limit->derived = true;
+    } else {
+      estop = search(3);
+    }
+  }
+  // Probes in axis order whatever the threads did; the first axis in that order that failed names
+  // the reason.
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    AxisOutcome& a = outcomes[i];
+    env.probes.insert(env.probes.end(), a.probes.begin(), a.probes.end());
+    if (a.limit) continue;
+    if (a.error) return Result<Envelope>::failure("", "the envelope search failed: " + *a.error);
+    if (a.batch_error) {
+      return Result<Envelope>::failure("", "the batched probes could not run: " + *a.batch_error);
+    }
+    return Result<Envelope>::failure(
+        "", "the simulation became numerically unstable, so no verdict is given: " +
+                a.unstable.value_or(std::string(to_string(tasks[i].axis)) + " search stopped"));
+  }
+  env.accel = *outcomes[0].limit;
+  env.decel = *outcomes[1].limit;
+  env.lateral = *outcomes[2].limit;
+  env.speed = *outcomes[3].limit;
+  summarise(env, line, s);
+  stamp_sims_and_time(env, start);
+  return Result<Envelope>{std::move(env), {}};
+}
+
+namespace {
+
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s) {
+  SafetyResult& r = env.result;
+  r.line_estop_decel_mps2 = line.estop_decel_mps2;
+  r.line_curve_radius_m = line.curve_radius_m;
+  r.max_accel_mps2 = env.accel.limit;
+  r.accel_mode = env.accel.mode;
+  r.max_decel_mps2 = env.decel.limit;
+  r.decel_mode = env.decel.mode;
+  r.max_lateral_g = env.lateral.limit;
+  r.lateral_mode = env.lateral.mode;
+  // The speed the curve allows: v^2 / r within the measured lateral limit.
+  const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
+  const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
+  if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
+    r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
+    r.speed_mode = env.lateral.mode;
+    r.speed_governed_by = "curve";
+  } else {
+    r.max_speed_mps = stop_speed;
+    r.speed_mode = env.speed.mode;
+    r.speed_governed_by = env.speed.at_ceiling ? "ceiling" : "estop";
+  }
+  r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
+
+  struct Tight {
+    const char* name;
+    const AxisLimit* axis;
+    double margin;
+  };
+  const Tight tight[] = {
+      {"start-up", &env.accel, normalised(env.accel, s.accel_min_mps2, s.accel_max_mps2)},
+      {"stop", &env.decel, normalised(env.decel, s.decel_min_mps2, s.decel_max_mps2)},
+      {"curve", &env.lateral, normalised(env.lateral, s.lateral_min_g, s.lateral_max_g)},
+      {"line e-stop", &env.speed, normalised(env.speed, s.speed_min_mps, s.speed_max_mps)},
+  };
+  const Tight* weakest = &tight[0];
+  for (const auto& t : tight) {
+    if (t.margin < weakest->margin) weakest = &t;
+  }
+  r.margin_pct = 100.0 * weakest->margin;
+  r.dominant_failure_mode =
+      weakest->axis->at_ceiling ? FailureMode::no_failure : weakest->axis->mode;
+
+  const Tight* floor_axis = nullptr;
+  for (const auto& t : tight) {
+    if (t.axis->at_floor) {
+      floor_axis = &t;
+      break;
+    }
+  }
+  if (floor_axis != nullptr) {
+    r.verdict = "reject";
+    r.speed_governed_by = "reject";
+    r.max_speed_mps = 0.0;
+    r.dominant_failure_mode = floor_axis->axis->mode;
+    r.margin_pct = 0.0;
+    r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
+               floor_axis->name + " tried (" + std::string(mode_words(floor_axis->axis->mode)) +
+               "). Re-stack or re-wrap before it enters the conveyor.";
+  } else {
+    r.verdict = "ok";
+    std::ostringstream why;
+    const std::string governed = r.speed_governed_by == "estop"   ? "set by the line's e-stop"
+                                 : r.speed_governed_by == "curve" ? "set by the tightest curve"
+                                                                  : "the top of the search range";
+    why << "Start-up to " << fixed(s.speed_max_mps, 1) << " m/s at up to "
+        << fixed(r.max_accel_mps2, 1) << " m/s^2"
+        << (env.accel.at_ceiling ? " (the top of the range)"
+                                 : " (above it, " + std::string(mode_words(r.accel_mode)) + ")")
+        << "; stops from " << fixed(s.speed_max_mps, 1) << " m/s at up to "
+        << fixed(r.max_decel_mps2, 1) << " m/s^2; curves up to " << fixed(r.max_lateral_g, 2)
+        << " g. Speed " << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
+        << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
+        << " m curves).";
+    r.reason = why.str();
+  }
+}
+
+void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start) {
+  env.result.sims_run = static_cast<int>(env.probes.size());
+  env.result.sim_runtime_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The largest multiple of `step` above `lo` (from lo) not beyond `bound`, as an axis limit.
+AxisLimit closed_form_axis(const AxisPrediction& prediction, double lo, double hi, double step) {
+  AxisLimit a;
+  const double b = prediction.value;
+  a.closed_form = b;
+  if (b >= hi) {
+    a.limit = hi;
+    a.at_ceiling = true;
+    return a;
+  }
+  a.mode = prediction.mode;
+  if (b < lo) {
+    a.at_floor = true;
+    return a;
+  }
+  a.limit = lo + std::floor((b - lo) / step + 1e-9) * step;
+  return a;
+}
+
+}  // namespace
+
+Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                              const SearchConfig& s, const DetectorThresholds& thresholds) {
+  const auto start = std::chrono::steady_clock::now();
+  Envelope env;
+  const QuasiStaticLimit along = bounds.weakest_along();
+  const AxisPredictions p = predict_envelope(bounds, line, s, thresholds);
+  env.accel = closed_form_axis(p.accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2);
+  env.decel = closed_form_axis(p.decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2);
+  env.lateral =
+      closed_form_axis(p.lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
+  // The e-stop: nothing moves below the onset; above it a slide grows with v^2 (a tip is
+  // assumed at any speed).
+  QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, Mechanism::pallet_slip, "", -1};
+  if (line.estop_decel_mps2 > along.accel_mps2) {
+    stop.mode = along.mode;
+    stop.accel_mps2 =
+        along.mode == FailureMode::tip_over
+            ? 0.0
+            : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+                          along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
+                                                                 : thresholds.item_slide_m);
+  }
+  env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
+                               s.speed_precision_mps);
+  summarise(env, line, s);
+  stamp_sims_and_time(env, start);
+  env.result.fidelity = std::string(to_string(Fidelity::closed_form));
+  return env;
+}
+
+}  // namespace pb

@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: MIT
+// The safe envelope of one pallet: measured start-up acceleration, stop deceleration and lateral
+// (curve) limits, and the speed the line's stops and curves allow, each with the failure mode
+// that governs it. Bisection seeded by closed-form quasi-static bounds, so few probes are needed.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/base/diagnostic.hpp"
+#include "core/contract/safety_result.hpp"
+#include "core/physics/quasi_static.hpp"
+#include "core/physics/simulate.hpp"
+
+namespace pb {
+
+/// What the line does to a pallet besides starting it: how hard it stops and how tight it turns.
+struct LineDescription {
+  double estop_decel_mps2 = 2.0;  ///< emergency-stop deceleration of the line
+  double curve_radius_m = 3.0;    ///< tightest curve
+  double curve_angle_deg = 90.0;  ///< its angle
+
+  bool operator==(const LineDescription&) const = default;
+};
+
+/// Search ranges and precision (the reference's ranges; our precision).
+struct SearchConfig {
+  double speed_min_mps = 0.1, speed_max_mps = 2.0, speed_precision_mps = 0.05;
+  double accel_min_mps2 = 0.1, accel_max_mps2 = 5.0, accel_precision_mps2 = 0.1;
+  double decel_min_mps2 = 0.1, decel_max_mps2 = 5.0, decel_precision_mps2 = 0.1;
+  double lateral_min_g = 0.01, lateral_max_g = 0.5, lateral_precision_g = 0.01;
+  /// Probes end once the load moves with the belt again after the belt's motion stops changing
+  /// (nothing can change after that), or this long after it at most: a load still sliding when
+  /// the belt settles must be followed until it stops.
+  double hold_s = 3.0;
+  double max_ramp_s = 2.0;  ///< an acceleration probe ramps to speed_max, or for this long at most
+  /// true: start each axis just above its closed-form bound and step out until bracketed; false:
+  /// the reference system's plain bisection over the whole range.
+  bool seed_with_closed_form = true;
+  /// Probes evaluated at once per search round (k-section: one run_probes_batched call on k
+  /// threads per round); 1 = serial bisection, 0 = one per logical CPU. With k > 1 the walk that
+  /// brackets a limit probes its next k points a round, and the bracket is narrowed by k points of
+  /// the bisection's own grid: the same limits and modes as k = 1 when failure is monotone (same
+  /// doubles, bitwise the same probes), in fewer rounds (log_{k+1} instead of log2) with more
+  /// simulations. Measured on 2 cores: ~10 % less wall time at k = 2 for ~25 % more CPU, so the
+  /// default stays serial (and batch studies, which already fill every core, keep 1).
+  int parallel_probes = 1;
+  /// Threads that search the four axes (start-up, stop, curve, e-stop speed) side by side, each on
+  /// its own mjData; 0 = one per axis, 1 = one axis after another. The same probes and limits
+  /// either way (each probe loads the whole rest state); the wall time drops towards that of the
+  /// slowest axis. One per axis even on 2 cores: the axes' costs are uneven, and the scheduler
+  /// balances four threads better than a queue does two (tall-unwrapped-tower: 6.6 s serial, 4.4 s
+  /// on 2 threads, 3.8 s on 4). Batch studies, which fill every core with pallets, use 1.
+  int axis_threads = 0;
+  /// The memory the axis threads' simulations may take together: each needs its own mjData, and a
+  /// large load's is hundreds of MB (MuJoCo 2.2's njmax x njmax matrix), so fewer threads run
+  /// when four would not fit (a 96-carton load: 1.5 GB resident on four, see core/README.md).
+  double axis_memory_bytes = 640.0 * 1024 * 1024;
+  /// Axes answered from others where the physics says they must agree (search_envelope): a
+  /// mirror-symmetric load's stop from its start-up, and the e-stop speed from the stop search.
+  /// false searches every axis on its own (the reference configuration, the judge, does).
+  bool derive_axes = true;
+
+  bool operator==(const SearchConfig&) const = default;
+};
+
+enum class Axis { accel, decel, lateral, speed };
+std::string_view to_string(Axis axis);
+
+/// One simulation of the search.
+struct Probe {
+  Axis axis = Axis::accel;
+  double value = 0.0;  ///< m/s^2, m/s^2, g or m/s
+  Outcome outcome = Outcome::safe;
+  FailureMode mode = FailureMode::no_failure;
+  double failure_time_s = 0.0;
+  double wall_ms = 0.0;
+  int steps = 0;            ///< mj_step calls (profile steps reached minus those jumped)
+  double sim_time_s = 0.0;  ///< profile time reached
+};
+
+struct AxisLimit {
+  double limit = 0.0;  ///< the largest value found safe (0 if even the floor fails)
+  FailureMode mode = FailureMode::no_failure;  ///< what fails just above it
+  bool at_ceiling = false;                     ///< safe throughout the search range
+  bool at_floor = false;                       ///< fails even at the bottom of the range
+  double closed_form =
+      0.0;  ///< the closed-form prediction (predict_axis; the seed of a one-body load)
+  int probes = 0;
+  /// Not probed: derived from another axis's search (search_envelope): the stop from the
+  /// start-up's (a mirror-image load), or the e-stop speed from the stop's.
+  bool derived = false;
+};
+
+struct Envelope {
+  SafetyResult result;
+  AxisLimit accel, decel, lateral, speed;
+  std::vector<Probe> probes;
+  RestState rest;
+};
+
+/// The probe profiles of each axis, so that a user can replay the probe that failed.
+ConveyorProfile accel_probe_profile(double accel_mps2, const SearchConfig& search);
+ConveyorProfile decel_probe_profile(double decel_mps2, double speed_mps,
+                                    const SearchConfig& search);
+ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
+                                      const SearchConfig& search);
+ConveyorProfile stop_probe_profile(double speed_mps, const LineDescription& line,
+                                   const SearchConfig& search);
+
+/// Where a probe of one axis is predicted to fail, in the axis's units, and through what
+/// (`value` >= the range's top and no_failure when nothing is predicted to fail inside it).
+struct AxisPrediction {
+  double value = 0.0;
+  FailureMode mode = FailureMode::no_failure;
+};
+
+/// The closed-form model of a probe: each mechanism as a rigid body. A tip fails at its
+/// quasi-static onset g (b/2) / h. A slip fails where its Coulomb slide reaches what its detector
+/// allows (the pallet 0.30 m on the belt, an item 0.05 m on the deck, 0.02 m on another item): a
+/// belt acceleration a held for T = step_duration_s(x) leaves a load of onset mu g behind by
+/// (a - mu g) T^2 / 2 + ((a - mu g) T)^2 / (2 mu g). The weakest mechanism wins. `unit` converts
+/// the axis's values to m/s^2 (g for the curve axis).
+AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
+                            double hi, const std::function<double(double)>& step_duration_s,
+                            const DetectorThresholds& thresholds);
+
+struct AxisPredictions {
+  AxisPrediction accel, decel, lateral;
+};
+/// The three demand axes. A load that moves as one body (QuasiStaticBounds::one_body): predict_axis
+/// with each probe's step duration (start-up: the ramp to speed; stop: the e-stop from speed_max;
+/// curve: the arc); within one search step of the reference on 14 of 14 wrapped pallets (core/
+/// README.md). A load whose items can slide and rock: the weakest onsets, because the rigid-body
+/// slide overstated what such a load survives by 2-3.5 steps on the unwrapped curated scenarios
+/// (it rocks and slides at once).
+AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& search, const DetectorThresholds& thresholds);
+
+/// Searches every axis on a settled scene. In the belt's frame a start-up at a is a pulse of -a for
+/// speed_max / a (once a reaches speed_max within max_ramp_s) and the stop from speed_max at d a
+/// pulse of +d for speed_max / d: a load that is its own mirror image along the belt
+/// (mirror_symmetric_along) with equal start-up and stop ranges answers both from the start-up
+/// search, whose probes all were such pulses; otherwise the stop is searched after it. Likewise the
+/// line's e-stop from speed_max is the stop probe at the line's deceleration: when the stop search
+/// found that deceleration safe (failure is monotone along the axis, as every search assumes), the
+/// e-stop speed is at its ceiling without a probe. An unstable probe makes the whole envelope fail
+/// with
+/// its reason (never a verdict); a pallet that fails at the floor of the acceleration or the stop
+/// search gets verdict "reject" with the mode.
+Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
+                                 const QuasiStaticBounds& bounds, const LineDescription& line = {},
+                                 const SearchConfig& search = {}, const SimOptions& sim = {});
+
+/// A settled model the probes of one plane run on.
+struct ProbeModel {
+  Simulator* simulator = nullptr;
+  const RestState* rest = nullptr;
+};
+
+/// The same search with the probes along the belt (start-up, stop, e-stop speed) on `along` and
+/// the curve's on `across`: a load with symmetric copies is simulated on a reduced model per plane
+/// (symmetry.hpp). `bounds` and the mirror test are those of `config`, the whole load.
+Result<Envelope> search_envelope(const ProbeModel& along, const ProbeModel& across,
+                                 const PalletConfig& config, const QuasiStaticBounds& bounds,
+                                 const LineDescription& line, const SearchConfig& search,
+                                 const SimOptions& sim);
+
+/// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
+/// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance
+/// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". An
+/// estimate, not a bound: a probe allows a finite slide (above the onset) but its onset is a step
+/// load that a tall load can rock under (below it), and which wins depends on the load.
+Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line = {},
+                              const SearchConfig& search = {},
+                              const DetectorThresholds& thresholds = {});
+
+}  // namespace pb

@@ -1,0 +1,470 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/replay.hpp"
+#include "core/base/text.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <initializer_list>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+namespace pb {
+
+namespace {
+
+// Display precision of the written poses (see replay_to_json).
+constexpr double kPositionScale = 1e5;  // 0.01 mm
+constexpr double kQuatScale = 1e6;
+// Largest accepted | |q| - 1 | of a quaternion read back.
+constexpr double kUnitTolerance = 1e-3;
+// An item count while reading when the pallet could not be read.
+constexpr int kUnknown = -1;
+
+// ---------------------------------------------------------------------------------------------
+// Resampling.
+
+// The state of the trace at time t, where time(j) <= t and, if j is not the last frame, t <
+// time(j + 1).
+ReplayFrame sample(const Trace& trace, std::size_t j, double t) {
+  ReplayFrame out;
+  out.t = t;
+  const bool between = j + 1 < trace.size() && t > trace.time(j);
+  const std::size_t k = between ? j + 1 : j;
+  const double s = between ? (t - trace.time(j)) / (trace.time(k) - trace.time(j)) : 0.0;
+  out.belt_x = trace.belt(j).x + s * (trace.belt(k).x - trace.belt(j).x);
+  out.belt_y = trace.belt(j).y + s * (trace.belt(k).y - trace.belt(j).y);
+  out.pallet = interpolate(trace.pallet(j), trace.pallet(k), s);
+  const auto a = trace.items(j);
+  const auto b = trace.items(k);
+  out.items.reserve(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) out.items.push_back(interpolate(a[i], b[i], s));
+  return out;
+}
+
+}  // namespace
+
+Replay as_built_replay(const PalletConfig& pallet) {
+  Replay r;
+  r.pallet = pallet;
+  ReplayFrame f;
+  f.pallet.pos = {0.0, 0.0, pallet.base_dims_m[2] / 2.0};
+  for (const Item& item : pallet.items) {
+    Pose p;
+    p.pos = item.center_of_mass();
+    const double half = item.orientation_deg * std::numbers::pi / 360.0;
+    p.quat = {std::cos(half), 0.0, 0.0, std::sin(half)};
+    f.items.push_back(p);
+  }
+  r.frames.push_back(std::move(f));
+  return r;
+}
+
+ReplayFrame frame_at(const Replay& replay, double t) {
+  const auto& frames = replay.frames;
+  if (frames.empty()) return {};
+  if (!(t > frames.front().t)) return frames.front();  // also NaN
+  if (t >= frames.back().t) return frames.back();
+  const auto next = std::upper_bound(frames.begin(), frames.end(), t,
+                                     [](double x, const ReplayFrame& f) { return x < f.t; });
+  const ReplayFrame& a = *(next - 1);
+  const ReplayFrame& b = *next;
+  const double s = (t - a.t) / (b.t - a.t);
+  ReplayFrame out;
+  out.t = t;
+  out.belt_x = a.belt_x + s * (b.belt_x - a.belt_x);
+  out.belt_y = a.belt_y + s * (b.belt_y - a.belt_y);
+  out.pallet = interpolate(a.pallet, b.pallet, s);
+  out.items.reserve(a.items.size());
+  for (std::size_t i = 0; i < a.items.size() && i < b.items.size(); ++i) {
+    out.items.push_back(interpolate(a.items[i], b.items[i], s));
+  }
+  return out;
+}
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Writing.
+
+double rounded(double value, double scale) {
+  return std::round(value * scale) / scale + 0.0;  // + 0.0 turns -0 into 0
+}
+
+Json pose_to_json(const Pose& pose) {
+  return Json::array({rounded(pose.pos[0], kPositionScale), rounded(pose.pos[1], kPositionScale),
+                      rounded(pose.pos[2], kPositionScale), rounded(pose.quat[0], kQuatScale),
+                      rounded(pose.quat[1], kQuatScale), rounded(pose.quat[2], kQuatScale),
+                      rounded(pose.quat[3], kQuatScale)});
+}
+
+Json frame_to_json(const ReplayFrame& frame) {
+  Json items = Json::array();
+  for (const Pose& pose : frame.items) items.push_back(pose_to_json(pose));
+  return {{"t", frame.t},
+          {"belt", Json::array({rounded(frame.belt_x, kPositionScale),
+                                rounded(frame.belt_y, kPositionScale)})},
+          {"pallet", pose_to_json(frame.pallet)},
+          {"items", std::move(items)}};
+}
+
+Json failure_to_json(const std::optional<FailureEvent>& failure) {
+  if (!failure) return nullptr;
+  return {{"mode", to_string(failure->mode)},
+          {"time_s", failure->time_s},
+          {"value", failure->value},
+          {"items", failure->items}};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading.
+
+std::string at(const std::string& pointer, std::string_view key) {
+  return pointer + "/" + json_pointer_token(key);
+}
+
+std::string at(const std::string& pointer, std::size_t index) {
+  return pointer + "/" + std::to_string(index);
+}
+
+class ReplayReader {
+ public:
+  Diagnostics diagnostics;
+
+  void error(std::string pointer, std::string message) {
+    diagnostics.push_back({std::move(pointer), std::move(message), Severity::error});
+  }
+
+  /// The value of a required key of an object, or null after recording its absence.
+  const Json* require(const Json& object, const std::string& pointer, std::string_view key) {
+    const auto it = object.find(key);
+    if (it != object.end()) return &*it;
+    error(pointer, "the required key '" + std::string(key) + "' is missing; add it");
+    return nullptr;
+  }
+
+  void unknown_keys(const Json& object, const std::string& pointer,
+                    std::initializer_list<std::string_view> known) {
+    for (const auto& [key, value] : object.items()) {
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      diagnostics.push_back({at(pointer, key),
+                             "unknown key '" + key + "' is ignored; remove it or fix its spelling",
+                             Severity::warning});
+    }
+  }
+
+  /// Records an error unless `json` is an object: "expected <what>, found <type>; <remedy>".
+  bool object(const Json& json, const std::string& pointer, std::string_view what,
+              std::string_view remedy) {
+    if (json.is_object()) return true;
+    error(pointer, "expected " + std::string(what) + ", found " + json.type_name() + "; " +
+                       std::string(remedy));
+    return false;
+  }
+
+  bool number(const Json& json, const std::string& pointer, double& out) {
+    if (!json.is_number()) {
+      error(pointer,
+            std::string("expected a number, found ") + json.type_name() + "; write a plain number");
+      return false;
+    }
+    out = json.get<double>();
+    return true;
+  }
+
+  /// An array of exactly N numbers.
+  template <std::size_t N>
+  bool numbers(const Json& json, const std::string& pointer, std::string_view layout,
+               std::array<double, N>& out) {
+    if (!json.is_array() || json.size() != N) {
+      error(pointer, "expected an array of exactly " + std::to_string(N) + " numbers " +
+                         std::string(layout) + ", found " +
+                         (json.is_array() ? "an array of " + std::to_string(json.size())
+                                          : std::string(json.type_name())) +
+                         "; write " + std::to_string(N) + " numbers");
+      return false;
+    }
+    bool ok = true;
+    for (std::size_t k = 0; k < N; ++k) ok = number(json[k], at(pointer, k), out[k]) && ok;
+    return ok;
+  }
+
+  bool pose(const Json& json, const std::string& pointer, Pose& out) {
+    std::array<double, 7> v{};
+    if (!numbers(json, pointer, "[x, y, z, qw, qx, qy, qz]", v)) return false;
+    out.pos = {v[0], v[1], v[2]};
+    out.quat = {v[3], v[4], v[5], v[6]};
+    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+    if (std::abs(norm - 1.0) <= kUnitTolerance) return true;
+    error(pointer, "the quaternion (qw, qx, qy, qz) has length " + short_number(norm) +
+                       "; write a unit quaternion");
+    return false;
+  }
+
+  /// An optional "schema_version": a whole number from 1 to kSchemaVersion.
+  void schema_version(const Json& object) {
+    const auto it = object.find("schema_version");
+    if (it == object.end()) return;
+    const std::string supported = "write a version from 1 to " + std::to_string(kSchemaVersion);
+    // nlohmann stores non-negative integers as unsigned, negative ones as signed.
+    const bool positive = it->is_number_unsigned()
+                              ? it->get<std::uint64_t>() >= 1
+                              : it->is_number_integer() && it->get<std::int64_t>() >= 1;
+    if (!positive) {
+      error("/schema_version", std::string("expected a whole number >= 1, found ") +
+                                   (it->is_number() ? it->dump() : it->type_name()) + "; " +
+                                   supported);
+    } else if (it->get<std::uint64_t>() > static_cast<std::uint64_t>(kSchemaVersion)) {
+      error("/schema_version", "schema_version " + it->dump() +
+                                   " is newer than this program reads; update the program or " +
+                                   supported);
+    }
+  }
+
+  template <class T>
+  void merge(Result<T> result, std::optional<T>& out) {
+    diagnostics.insert(diagnostics.end(), result.diagnostics.begin(), result.diagnostics.end());
+    out = std::move(result.value);
+  }
+};
+
+std::optional<FailureEvent> read_failure(ReplayReader& reader, const Json& json,
+                                         const std::string& p) {
+  if (!reader.object(json, p, "a failure object or null",
+                     "write null or {\"mode\", \"time_s\", \"value\", \"items\"}")) {
+    return std::nullopt;
+  }
+  reader.unknown_keys(json, p, {"mode", "time_s", "value", "items"});
+  FailureEvent event;
+  bool ok = true;
+  if (const Json* mode = reader.require(json, p, "mode")) {
+    const auto value =
+        mode->is_string() ? enum_from_string<FailureMode>(mode->get<std::string>()) : std::nullopt;
+    if (!value || *value == FailureMode::no_failure) {
+      reader.error(at(p, "mode"),
+                   "expected the failure mode that fired; use tip_over, top_item_slide, "
+                   "pallet_slip or load_shift");
+      ok = false;
+    } else {
+      event.mode = *value;
+    }
+  } else {
+    ok = false;
+  }
+  const Json* time = reader.require(json, p, "time_s");
+  ok = time && reader.number(*time, at(p, "time_s"), event.time_s) && ok;
+  const Json* value = reader.require(json, p, "value");
+  ok = value && reader.number(*value, at(p, "value"), event.value) && ok;
+  if (const Json* items = reader.require(json, p, "items")) {
+    if (!items->is_array()) {
+      reader.error(at(p, "items"), std::string("expected an array of item indices, found ") +
+                                       items->type_name() + "; write e.g. [3, 7] or []");
+      ok = false;
+    }
+    for (std::size_t k = 0; items->is_array() && k < items->size(); ++k) {
+      const Json& item = (*items)[k];
+      if (item.is_number_integer() && item.get<std::int64_t>() >= 0 &&
+          item.get<std::int64_t>() <= std::numeric_limits<int>::max()) {
+        event.items.push_back(item.get<int>());
+      } else {
+        reader.error(at(at(p, "items"), k),
+                     "expected an item index (a whole number >= 0); write the item's position "
+                     "in the pallet's items");
+        ok = false;
+      }
+    }
+  } else {
+    ok = false;
+  }
+  if (!ok) return std::nullopt;
+  return event;
+}
+
+// Reads "outcome" and "failure" and checks that they agree and that the failure's items exist.
+void read_verdict(ReplayReader& reader, const Json& json, int n_items, Replay& out) {
+  bool outcome_ok = false;
+  if (const Json* outcome = reader.require(json, "", "outcome")) {
+    const bool known =
+        outcome->is_string() && std::find(kReplayOutcomes.begin(), kReplayOutcomes.end(),
+                                          outcome->get<std::string>()) != kReplayOutcomes.end();
+    if (known) {
+      out.outcome = outcome->get<std::string>();
+      outcome_ok = true;
+    } else {
+      reader.error("/outcome", "expected \"safe\", \"failed\" or \"unstable\"; use one of them");
+    }
+  }
+  const Json* failure = reader.require(json, "", "failure");
+  if (!failure) return;
+  if (!failure->is_null()) {
+    out.failure = read_failure(reader, *failure, "/failure");
+    if (!out.failure) return;
+  }
+  if (outcome_ok && out.failure.has_value() != (out.outcome == "failed")) {
+    reader.error("/failure", out.failure ? "a failure is given but the outcome is \"" +
+                                               out.outcome + "\"; write null or set \"failed\""
+                                         : "the outcome is \"failed\" but the failure is null; "
+                                           "write the failure event");
+  }
+  if (!out.failure || n_items == kUnknown) return;
+  for (std::size_t k = 0; k < out.failure->items.size(); ++k) {
+    if (out.failure->items[k] < n_items) continue;
+    reader.error("/failure/items/" + std::to_string(k),
+                 "item " + std::to_string(out.failure->items[k]) +
+                     " does not exist (the pallet has " + std::to_string(n_items) +
+                     " items); name an item of the pallet");
+  }
+}
+
+// Reads one frame; `n_items` is the pallet's item count or kUnknown.
+std::optional<ReplayFrame> read_frame(ReplayReader& reader, const Json& json, const std::string& p,
+                                      int n_items) {
+  if (!reader.object(json, p, "a frame object", "write {\"t\", \"belt\", \"pallet\", \"items\"}")) {
+    return std::nullopt;
+  }
+  reader.unknown_keys(json, p, {"t", "belt", "pallet", "items"});
+  ReplayFrame frame;
+  bool ok = true;
+  const Json* t = reader.require(json, p, "t");
+  ok = t && reader.number(*t, at(p, "t"), frame.t) && ok;
+  std::array<double, 2> belt{};
+  const Json* belt_json = reader.require(json, p, "belt");
+  ok = belt_json && reader.numbers(*belt_json, at(p, "belt"), "[x, y]", belt) && ok;
+  frame.belt_x = belt[0];
+  frame.belt_y = belt[1];
+  const Json* pallet = reader.require(json, p, "pallet");
+  ok = pallet && reader.pose(*pallet, at(p, "pallet"), frame.pallet) && ok;
+  const Json* items = reader.require(json, p, "items");
+  if (!items) return std::nullopt;
+  const std::string ip = at(p, "items");
+  if (!items->is_array()) {
+    reader.error(ip, std::string("expected an array of item poses, found ") + items->type_name() +
+                         "; write one [x, y, z, qw, qx, qy, qz] per item");
+    return std::nullopt;
+  }
+  if (n_items != kUnknown && items->size() != static_cast<std::size_t>(n_items)) {
+    reader.error(ip, "the frame has " + std::to_string(items->size()) +
+                         " item poses but the pallet has " + std::to_string(n_items) +
+                         " items; write one pose per item of the pallet");
+    ok = false;
+  }
+  frame.items.resize(items->size());
+  for (std::size_t i = 0; i < items->size(); ++i) {
+    ok = reader.pose((*items)[i], at(ip, i), frame.items[i]) && ok;
+  }
+  if (!ok) return std::nullopt;
+  return frame;
+}
+
+void read_frames(ReplayReader& reader, const Json& json, int n_items,
+                 std::vector<ReplayFrame>& out) {
+  if (!json.is_array()) {
+    reader.error("/frames", std::string("expected an array of frames, found ") + json.type_name() +
+                                "; write [] or a list of frames");
+    return;
+  }
+  // Time of the previous frame that was read (-inf after a frame that could not be read).
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  double previous_t = kNone;
+  for (std::size_t k = 0; k < json.size(); ++k) {
+    const std::string p = at("/frames", k);
+    auto frame = read_frame(reader, json[k], p, n_items);
+    if (!frame) {
+      previous_t = kNone;
+      continue;
+    }
+    if (!(frame->t > previous_t)) {
+      reader.error(at(p, "t"), "t = " + short_number(frame->t) +
+                                   " s does not come after the previous frame's " +
+                                   short_number(previous_t) +
+                                   " s; order the frames by increasing time");
+    }
+    previous_t = frame->t;
+    out.push_back(std::move(*frame));
+  }
+}
+
+}  // namespace
+
+Replay make_replay(const Trace& trace, const PalletConfig& pallet, const ConveyorProfile& profile,
+                   std::string outcome, std::optional<FailureEvent> failure, double hz) {
+  Replay out{pallet, profile, std::move(outcome), std::move(failure), hz, {}};
+  if (trace.empty() || !(hz > 0.0)) return out;
+  const double first = trace.time(0);
+  const double last = trace.time(trace.size() - 1);
+  const auto grid = [hz](std::int64_t k) { return static_cast<double>(k) / hz; };
+  // The first k with k / hz >= first, robust to rounding of first * hz.
+  auto k = static_cast<std::int64_t>(std::ceil(first * hz));
+  while (grid(k - 1) >= first) --k;
+  while (grid(k) < first) ++k;
+  // The failure's own instant is a frame too (the moment the detector fired, exactly), wherever
+  // it falls between two grid times.
+  const double fired = out.failure ? out.failure->time_s : 0.0;
+  bool fired_placed = !out.failure || fired < first || fired > last;
+  std::size_t j = 0;
+  auto place = [&](double t) {
+    while (j + 1 < trace.size() && trace.time(j + 1) <= t) ++j;
+    out.frames.push_back(sample(trace, j, t));
+  };
+  for (; grid(k) <= last; ++k) {
+    const double t = grid(k);
+    if (!fired_placed && fired <= t) {
+      if (fired < t) place(fired);
+      fired_placed = true;
+    }
+    place(t);
+  }
+  if (!fired_placed && (out.frames.empty() || out.frames.back().t < fired)) place(fired);
+  if (out.frames.empty() || out.frames.back().t != last) {
+    out.frames.push_back(sample(trace, trace.size() - 1, last));
+  }
+  return out;
+}
+
+Json replay_to_json(const Replay& replay) {
+  Json frames = Json::array();
+  for (const ReplayFrame& frame : replay.frames) frames.push_back(frame_to_json(frame));
+  return {{"schema_version", kSchemaVersion},
+          {"pallet", pallet_to_json(replay.pallet)},
+          {"profile", profile_to_json(replay.profile)},
+          {"outcome", replay.outcome},
+          {"failure", failure_to_json(replay.failure)},
+          {"hz", replay.hz},
+          {"frames", std::move(frames)}};
+}
+
+Result<Replay> replay_from_json(const Json& json) {
+  ReplayReader reader;
+  if (!reader.object(json, "", "a replay object", "write the document replay_to_json writes")) {
+    return Result<Replay>::failure(reader.diagnostics);
+  }
+  reader.schema_version(json);
+  reader.unknown_keys(
+      json, "", {"schema_version", "pallet", "profile", "outcome", "failure", "hz", "frames"});
+  Replay out;
+  std::optional<PalletConfig> pallet;
+  if (const Json* p = reader.require(json, "", "pallet")) {
+    reader.merge(pallet_from_json(*p, "/pallet"), pallet);
+  }
+  std::optional<ConveyorProfile> profile;
+  if (const Json* p = reader.require(json, "", "profile")) {
+    reader.merge(profile_from_json(*p, "/profile"), profile);
+  }
+  const int n_items = pallet ? static_cast<int>(pallet->items.size()) : kUnknown;
+  read_verdict(reader, json, n_items, out);
+  if (const Json* hz = reader.require(json, "", "hz");
+      hz && reader.number(*hz, "/hz", out.hz) && !(out.hz > 0.0)) {
+    reader.error("/hz", "hz must be positive; write the frame rate, e.g. 30");
+  }
+  if (const Json* frames = reader.require(json, "", "frames")) {
+    read_frames(reader, *frames, n_items, out.frames);
+  }
+  if (has_errors(reader.diagnostics)) return Result<Replay>::failure(reader.diagnostics);
+  out.pallet = std::move(*pallet);
+  out.profile = std::move(*profile);
+  return Result<Replay>{std::move(out), reader.diagnostics};
+}
+
+}  // namespace pb

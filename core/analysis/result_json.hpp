@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// The JSON of the core's answers, one writer for every client (the CLI, the service): diagnostics,
+// a validation report, a simulation's outcome, a search's probes, a failure map. The contract's
+// own types (pallet, profile, SafetyResult, replay) are written by json_io.hpp and replay.hpp.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/analysis/envelope.hpp"
+#include "core/analysis/failure_map.hpp"
+#include "core/base/diagnostic.hpp"
+#include "core/contract/conveyor_profile.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/physics/detectors.hpp"
+#include "core/physics/simulate.hpp"
+
+namespace pb {
+
+/// [{"pointer", "message"}, ...] in their order.
+Json diagnostics_to_json(const Diagnostics& diagnostics);
+
+/// Validation of one pallet with the recomputed summary a supervisor checks first: "valid",
+/// "errors", "warnings", "pallet_id", "items", "total_mass_kg", "composite_com_m",
+/// "stack_height_m", "overhang_m", "min_support_fraction".
+Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics);
+
+/// null, or {"mode", "time_s", "value", "items", "description"}.
+Json failure_event_to_json(const std::optional<FailureEvent>& failure);
+
+/// One simulation of `profile`: "outcome", "failure", "reason" (unstable only), "aftermath_cut"
+/// (only when a failure's aftermath ended early, and why), "steps",
+/// "steps_skipped", "skipped_s", "sim_time_s", "stopped_early", "wall_ms", "profile".
+Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile);
+
+/// Every probe of a search: {"axis", "value", "outcome", "mode", "failure_time_s" (null unless
+/// failed), "sim_time_s", "steps", "wall_ms"}.
+Json probes_to_json(const std::vector<Probe>& probes);
+
+/// A failure map: "speeds_mps", "accels_mps2", "cells" (a row per acceleration, a cell per speed:
+/// {"outcome", "mode", "failure_time_s", "decided_by", "non_monotone", "reason"?}), "line_cells",
+/// the derived "envelope", "unstable_cells", "non_monotone_cells", "sims", "threads", "wall_ms".
+Json failure_map_to_json(const FailureMap& map);
+
+}  // namespace pb

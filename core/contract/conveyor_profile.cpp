@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: MIT
+#include "core/contract/conveyor_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace pb {
+
+namespace {
+
+constexpr double kGravity = 9.81;
+constexpr double kEumosRise = 0.05;  // s to reach the test acceleration
+
+double curve_duration(const ConveyorProfile& p) {
+  if (p.target_speed_mps <= 0.0) return 0.0;
+  return p.curve_radius_m * p.curve_angle_deg * std::numbers::pi / 180.0 / p.target_speed_mps;
+}
+
+}  // namespace
+
+double ConveyorProfile::initial_speed_mps() const {
+  return (shape == ProfileShape::estop || shape == ProfileShape::curve) ? target_speed_mps : 0.0;
+}
+
+double ConveyorProfile::lateral_accel_mps2() const {
+  return shape == ProfileShape::curve ? target_speed_mps * target_speed_mps / curve_radius_m : 0.0;
+}
+
+double ConveyorProfile::velocity_at(double t) const {
+  switch (shape) {
+    case ProfileShape::constant:
+      return t <= 0.0 ? 0.0 : target_speed_mps;
+    case ProfileShape::estop:
+      if (t < decel_start_s) return target_speed_mps;
+      return std::max(0.0, target_speed_mps - decel_mps2 * (t - decel_start_s));
+    case ProfileShape::curve:
+      return target_speed_mps;
+    case ProfileShape::eumos: {
+      const double a = eumos_g * kGravity;
+      const double jerk = a / kEumosRise;
+      if (t <= 0.0) return 0.0;
+      if (t < kEumosRise) return 0.5 * jerk * t * t;
+      const double v_rise = 0.5 * a * kEumosRise;
+      return v_rise + a * (std::min(t, kEumosRise + eumos_hold_s) - kEumosRise);
+    }
+    case ProfileShape::accel_hold:
+    case ProfileShape::ramp_decel:
+      break;
+  }
+  if (t <= 0.0) return 0.0;
+  const double ramp_up = target_speed_mps / std::max(accel_mps2, 1e-9);
+  double v = t < ramp_up ? accel_mps2 * t : target_speed_mps;
+  if (shape == ProfileShape::ramp_decel && t >= decel_start_s) {
+    v = std::min(v, std::max(0.0, target_speed_mps - accel_mps2 * (t - decel_start_s)));
+  }
+  return v;
+}
+
+double ConveyorProfile::lateral_velocity_at(double t) const {
+  if (shape != ProfileShape::curve) return 0.0;
+  const double s = std::clamp(t - curve_start_s, 0.0, curve_duration(*this));
+  return lateral_accel_mps2() * s;
+}
+
+std::vector<double> ConveyorProfile::breakpoints() const {
+  std::vector<double> out;
+  const double ramp_up = target_speed_mps / std::max(accel_mps2, 1e-9);
+  switch (shape) {
+    case ProfileShape::accel_hold:
+      out = {ramp_up};
+      break;
+    case ProfileShape::constant:
+      break;
+    case ProfileShape::ramp_decel: {
+      const double stop = decel_start_s + ramp_up;
+      // A decel that starts before the ramp ends meets it halfway: the belt peaks there.
+      out = decel_start_s >= ramp_up ? std::vector<double>{ramp_up, decel_start_s, stop}
+                                     : std::vector<double>{0.5 * (ramp_up + decel_start_s), stop};
+      break;
+    }
+    case ProfileShape::estop:
+      out = {decel_start_s, decel_start_s + target_speed_mps / std::max(decel_mps2, 1e-9)};
+      break;
+    case ProfileShape::curve:
+      out = {curve_start_s, curve_start_s + curve_duration(*this)};
+      break;
+    case ProfileShape::eumos:
+      out = {kEumosRise, kEumosRise + eumos_hold_s};
+      break;
+  }
+  std::erase_if(out, [&](double b) { return !(b > 0.0 && b < duration_s); });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+namespace {
+
+void check_range(Diagnostics& out, const std::string& pointer, const char* name, double value,
+                 double lo, bool lo_open, double hi, const char* unit) {
+  const bool bad = !std::isfinite(value) || (lo_open ? value <= lo : value < lo) || value > hi;
+  if (!bad) return;
+  std::string msg = std::string(name) + " must be a finite number in " + (lo_open ? "(" : "[") +
+                    std::to_string(lo) + ", " + std::to_string(hi) + "] " + unit + "; it is " +
+                    (std::isfinite(value) ? std::to_string(value) : "not finite");
+  out.push_back({pointer, msg, Severity::error});
+}
+
+}  // namespace
+
+Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix) {
+  Diagnostics out;
+  check_range(out, prefix + "/target_speed_mps", "target_speed_mps", p.target_speed_mps, 0.0, false,
+              5.0, "m/s");
+  check_range(out, prefix + "/accel_mps2", "accel_mps2", p.accel_mps2, 0.0, true, 10.0, "m/s^2");
+  check_range(out, prefix + "/duration_s", "duration_s", p.duration_s, 0.0, true, 30.0, "s");
+  check_range(out, prefix + "/decel_start_s", "decel_start_s", p.decel_start_s, 0.0, false, 30.0,
+              "s");
+  check_range(out, prefix + "/decel_mps2", "decel_mps2", p.decel_mps2, 0.0, true, 20.0, "m/s^2");
+  check_range(out, prefix + "/curve_radius_m", "curve_radius_m", p.curve_radius_m, 0.0, true,
+              1000.0, "m");
+  check_range(out, prefix + "/curve_angle_deg", "curve_angle_deg", p.curve_angle_deg, 0.0, true,
+              360.0, "deg");
+  check_range(out, prefix + "/curve_start_s", "curve_start_s", p.curve_start_s, 0.0, false, 30.0,
+              "s");
+  check_range(out, prefix + "/eumos_g", "eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
+  check_range(out, prefix + "/eumos_hold_s", "eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
+  return out;
+}
+
+}  // namespace pb

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// The answer for one pallet: the conveyor motion it survives and what fails first.
+#pragma once
+
+#include <string>
+
+#include "core/base/enums.hpp"
+
+namespace pb {
+
+/// Reference fields first (same names and units), then ours (optional in JSON, with defaults).
+struct SafetyResult {
+  std::string pallet_id;
+  double max_speed_mps = 0.0;   ///< the speed the line's stops and curves allow
+  double max_accel_mps2 = 0.0;  ///< start-up, measured
+  double max_decel_mps2 = 0.0;  ///< controlled or emergency stop, measured
+  double max_lateral_g = 0.0;   ///< curves, measured
+  FailureMode dominant_failure_mode = FailureMode::no_failure;
+  double margin_pct = 0.0;  ///< [0, 100]: the tightest limit's place in its search range
+  /// [0, 1]: the probability that the pallet survives every reported limit (start-up at
+  /// max_accel, stop at max_decel, curve at max_lateral, the line's e-stop from max_speed) when
+  /// each contact pair's friction varies lognormally (sigma 10 %) and each item's mass by
+  /// N(1, 5 %), estimated from M seeded samples (core/analysis/uncertainty.hpp). 0 when not
+  /// estimated (AnalyzerOptions::confidence.samples = 0, the default) or for a rejected pallet.
+  double confidence = 0.0;
+  double sim_runtime_ms = 0.0;
+  std::string config_hash;
+  // Ours.
+  int sims_run = 0;
+  FailureMode accel_mode = FailureMode::no_failure;  ///< what fails just above each limit
+  FailureMode decel_mode = FailureMode::no_failure;
+  FailureMode lateral_mode = FailureMode::no_failure;
+  FailureMode speed_mode = FailureMode::no_failure;
+  std::string speed_governed_by;       ///< "estop", "curve", "ceiling" or "reject"
+  std::string verdict = "ok";          ///< "ok", or "reject": unsafe at any motion
+  std::string reason;                  ///< one sentence a supervisor reads
+  double line_estop_decel_mps2 = 0.0;  ///< the line description the speed was derived from
+  double line_curve_radius_m = 0.0;
+  std::string fidelity = "full";  ///< the model level that produced the result
+
+  bool operator==(const SafetyResult&) const = default;
+};
+
+}  // namespace pb

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+#include "core/physics/probe_batch.hpp"
+
+#include <memory>
+
+#include "core/physics/engine.hpp"
+#include "core/physics/probe_run.hpp"
+
+namespace pb {
+
+Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const RestState& rest,
+                                                  const std::vector<ConveyorProfile>& profiles,
+                                                  const SimOptions& o, int threads,
+                                                  const BatchConfigure& configure,
+                                                  int* threads_used) {
+  using Out = Result<std::vector<SimResult>>;
+  if (profiles.empty()) return Out{std::vector<SimResult>{}, {}};
+  const mjModel& m = *scene.model;
+  auto batch = Batch::create(m, int(profiles.size()), threads);
+  if (!batch) return Out::failure(std::move(batch.diagnostics));
+  if (threads_used != nullptr) *threads_used = batch.value->threads();
+  if (configure) {
+    if (auto error = configure(*batch.value)) {
+      return Out::failure("", "the batch could not be configured: " + *error);
+    }
+  }
+  auto scratch = make_data(&m);
+  if (!scratch) return Out::failure(std::move(scratch.diagnostics));
+  mjData* d = scratch.value->get();
+  std::vector<std::unique_ptr<ProbeRun>> runs;
+  runs.reserve(profiles.size());
+  std::vector<int> active;
+  int nstep = 0;
+  const SimState base = batch.value->reset_state();
+  for (std::size_t k = 0; k < profiles.size(); ++k) {
+    runs.push_back(std::make_unique<ProbeRun>(scene, rest, profiles[k], o));
+    ProbeRun& run = *runs.back();
+    mj_resetData(&m, d);
+    load_rest_state(m, scene.layout, rest, run.initial_speed(), *d);
+    SimState st = base;
+    st.time = d->time;
+    st.qpos.assign(d->qpos, d->qpos + m.nq);
+    st.qvel.assign(d->qvel, d->qvel + m.nv);
+    st.act.assign(d->act, d->act + m.na);
+    st.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m.nv);
+    st.ctrl.assign(d->ctrl, d->ctrl + m.nu);
+    st.qfrc_applied.assign(d->qfrc_applied, d->qfrc_applied + m.nv);
+    st.xfrc_applied.assign(d->xfrc_applied, d->xfrc_applied + 6 * m.nbody);
+    if (auto error = batch.value->set_state(int(k), st)) {
+      return Out::failure("", "the batch could not load its start states: " + error->message);
+    }
+    if (run.done()) {
+      if (run.result().outcome != Outcome::unstable) run.finish(m, *d);
+    } else {
+      active.push_back(int(k));
+      nstep = std::max(nstep, run.max_steps());
+    }
+  }
+  if (!active.empty()) {
+    StepHooks hooks;
+    hooks.control = [&runs](int sim, const mjModel&, mjData& data) {
+      runs[std::size_t(sim)]->before_step(data);
+    };
+    hooks.observe = [&runs](int sim, const mjModel& model, const mjData& data) {
+      return runs[std::size_t(sim)]->after_step(model, data);
+    };
+    if (auto error = batch.value->step(Selection::of_ids(active), nstep, hooks)) {
+      if (error->sim < 0) return Out::failure("", "the batch call failed: " + error->message);
+      const std::string prefix = "simulation " + std::to_string(error->sim) + ": ";
+      for (int sim : error->failed) {
+        std::string why = "the engine stopped this simulation (error or instability)";
+        if (sim == error->sim) {
+          why = error->message.rfind(prefix, 0) == 0 ? error->message.substr(prefix.size())
+                                                     : error->message;
+        }
+        runs[std::size_t(sim)]->engine_error(why);
+      }
+    }
+  }
+  std::vector<SimResult> out;
+  out.reserve(runs.size());
+  for (auto& run : runs) {
+    if (!run->done()) run->engine_error("the batch call ended before the run did");
+    out.push_back(run->take_result());
+  }
+  return Out{std::move(out), {}};
+}
+
+}  // namespace pb

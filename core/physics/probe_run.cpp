@@ -1,0 +1,414 @@
+// SPDX-License-Identifier: MIT
+#include "core/physics/probe_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include "core/base/text.hpp"
+#include "core/physics/engine.hpp"
+#include "core/physics/quasi_static.hpp"
+
+namespace pb {
+
+namespace {
+
+constexpr int kWarnings[] = {mjWARN_CONTACTFULL, mjWARN_CNSTRFULL, mjWARN_BADQACC, mjWARN_BADQVEL,
+                             mjWARN_BADQPOS,     mjWARN_BADCTRL,   mjWARN_INERTIA};
+
+bool any_warning(const mjData& d) {
+  for (int w : kWarnings) {
+    if (d.warning[w].number > 0) return true;
+  }
+  return false;
+}
+
+double norm3(const mjtNum* v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+// The largest linear magnitude of `v` (qvel or qacc) at the pallet's or an item's free joint
+// relative to the belt's (bx, by), and (in `spin`) the largest angular one.
+double max_relative(const SceneLayout& l, const mjtNum* v, double bx, double by, double* spin) {
+  double fastest = 0.0, fastest_spin = 0.0;
+  auto visit = [&](int dof) {
+    const mjtNum rel[3] = {v[dof] - bx, v[dof + 1] - by, v[dof + 2]};
+    fastest = std::max(fastest, norm3(rel));
+    fastest_spin = std::max(fastest_spin, norm3(v + dof + 3));
+  };
+  visit(l.pallet_dof);
+  for (int dof : l.item_dofs) visit(dof);
+  if (spin != nullptr) *spin = fastest_spin;
+  return fastest;
+}
+
+}  // namespace
+
+double max_relative_accel(const SceneLayout& l, const mjData& d, double* spin) {
+  return max_relative(l, d.qacc, d.qacc[l.belt_x_dof], d.qacc[l.belt_y_dof], spin);
+}
+
+std::optional<std::string> BeltWatch::check(double error) {
+  growth_ = (error > 0.05 && error > last_) ? growth_ + 1 : 0;
+  last_ = error;
+  if (growth_ < 3) return std::nullopt;
+  return "the belt no longer follows its command (error " + fixed(error, 2) +
+         " m/s and growing): the belt drive's integration diverged";
+}
+
+Pose body_pose(const mjData& d, int body) {
+  Pose p;
+  for (int k = 0; k < 3; ++k) p.pos[static_cast<std::size_t>(k)] = d.xpos[3 * body + k];
+  for (int k = 0; k < 4; ++k) p.quat[static_cast<std::size_t>(k)] = d.xquat[4 * body + k];
+  return p;
+}
+
+void read_item_poses(const SceneLayout& layout, const mjData& d, std::vector<Pose>& out) {
+  const auto& bodies = layout.item_bodies;
+  out.resize(bodies.size());
+  for (std::size_t i = 0; i < bodies.size(); ++i) out[i] = body_pose(d, bodies[i]);
+}
+
+double max_relative_speed(const SceneLayout& l, const mjData& d, double belt_vx, double belt_vy,
+                          double* spin) {
+  return max_relative(l, d.qvel, belt_vx, belt_vy, spin);
+}
+
+void load_rest_state(const mjModel& m, const SceneLayout& l, const RestState& rest,
+                     double initial_speed, mjData& d) {
+  std::copy(rest.qpos.begin(), rest.qpos.end(), d.qpos);
+  std::copy(rest.qvel.begin(), rest.qvel.end(), d.qvel);
+  std::copy(rest.qacc_warmstart.begin(), rest.qacc_warmstart.end(), d.qacc_warmstart);
+  d.time = 0.0;
+  std::fill(d.ctrl, d.ctrl + m.nu, 0.0);
+  std::fill(d.act, d.act + m.na, 0.0);
+  std::fill(d.qfrc_applied, d.qfrc_applied + m.nv, 0.0);
+  std::fill(d.xfrc_applied, d.xfrc_applied + 6 * m.nbody, 0.0);
+  std::memset(d.warning, 0, sizeof(d.warning));
+  if (initial_speed != 0.0) {  // everything rides along at the initial speed
+    d.qvel[l.belt_x_dof] += initial_speed;
+    d.qvel[l.pallet_dof] += initial_speed;
+    for (int dof : l.item_dofs) d.qvel[dof] += initial_speed;
+    d.ctrl[l.belt_x_act] = initial_speed;
+  }
+}
+
+ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProfile& profile,
+                   const SimOptions& options)
+    : scene_(&scene),
+      rest_(&rest),
+      profile_(profile),
+      o_(options),
+      detector_(options.thresholds, rest.pallet, rest.items) {
+  const mjModel* m = scene.model.get();
+  const SceneLayout& l = scene.layout;
+  v0_ = profile_.initial_speed_mps();
+  r_.trace = Trace(static_cast<int>(l.item_bodies.size()));
+  dt_ = m->opt.timestep;
+  n_steps_ = static_cast<int>(std::ceil(profile_.duration_s / dt_ - 1e-9));
+  const auto breakpoints = profile_.breakpoints();
+  last_breakpoint_ = breakpoints.empty() ? 0.0 : breakpoints.back();
+  belt_x0_ = rest.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
+  belt_y0_ = rest.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
+  if (auto problem = numerical_limits_problem(scene)) {
+    r_.outcome = Outcome::unstable;
+    r_.reason = *problem;
+    done_ = true;
+    return;
+  }
+  if (rest.cannot_stand) {  // a collapsed load is no rest state: nothing to probe
+    r_.outcome = Outcome::unstable;
+    r_.reason = "no conveyor motion is simulated: " + rest.cannot_stand->sentence;
+    done_ = true;
+    return;
+  }
+  // Divergence a detector could mistake for a failure: a belt that stops following its command
+  // (its error growing step after step) or a pallet sinking through the belt.
+  fall_through_z_ = rest.pallet.pos[2] - 0.01;
+  if (o_.record_trace) {
+    r_.trace.reserve(static_cast<std::size_t>(n_steps_) + 1);
+    r_.trace.push(0.0, {0.0, 0.0, v0_, 0.0}, rest.pallet, rest.items);
+  }
+  // Co-moving must hold this long before a run stops early (a rocking load passes through
+  // matching velocities for an instant).
+  comove_needed_ = std::max(1, static_cast<int>(std::lround(0.05 / dt_)));
+  calm_needed_ = std::max(1, static_cast<int>(std::lround(0.01 / dt_)));
+  breakpoints_ = breakpoints;
+  dwell_needed_ = std::max(1, static_cast<int>(std::lround(o_.skip_dwell_s / dt_)));
+  if (n_steps_ <= 0) done_ = true;  // finish() gives the final check
+}
+
+void ProbeRun::before_step(mjData& d) {
+  const SceneLayout& l = scene_->layout;
+  if (skip_n_ > 0) {  // the co-moving jump after_step planned: the belt's rigid motion
+    auto move = [&](int qpos, int dof) {
+      d.qpos[qpos] += skip_dx_;
+      d.qpos[qpos + 1] += skip_dy_;
+      d.qvel[dof] += skip_dvx_;
+      d.qvel[dof + 1] += skip_dvy_;
+    };
+    d.qpos[l.belt_x_qpos] += skip_dx_;
+    d.qpos[l.belt_y_qpos] += skip_dy_;
+    d.qvel[l.belt_x_dof] += skip_dvx_;
+    d.qvel[l.belt_y_dof] += skip_dvy_;
+    move(l.pallet_qpos, l.pallet_dof);
+    for (std::size_t i = 0; i < l.item_qpos.size(); ++i) move(l.item_qpos[i], l.item_dofs[i]);
+    d.time += skip_n_ * dt_;
+    skip_n_ = 0;
+  }
+  const double t_next = (k_ + 1) * dt_;
+  // A velocity actuator with kv = M/dt reaches its command in one step: command the velocity
+  // the belt should have at the end of this step.
+  d.ctrl[l.belt_x_act] = profile_.velocity_at(t_next);
+  d.ctrl[l.belt_y_act] = profile_.lateral_velocity_at(t_next);
+  command_x_ = d.ctrl[l.belt_x_act];
+  command_y_ = d.ctrl[l.belt_y_act];
+}
+
+int ProbeRun::plan_skip() const {
+  if (!o_.skip_comoving || dwell_steps_ < dwell_needed_) return 0;
+  int last = n_steps_ - 1;  // the last step is always stepped
+  if (phase_ < breakpoints_.size()) {
+    // The step ending at or before the breakpoint is the phase's last: step it, and the one
+    // crossing the breakpoint.
+    last = std::min(last, static_cast<int>(std::floor(breakpoints_[phase_] / dt_ + 1e-9)) - 1);
+  } else if (o_.early_stop) {
+    return 0;  // after the last breakpoint the early stop decides
+  }
+  const int n = last - k_;
+  // A jump shorter than the dwell saves less than it cost, and near the phase's end it perturbs
+  // a marginal load for nothing (a 3-step jump flipped a top-heavy load's e-stop verdict).
+  if (n < std::max(2, dwell_needed_)) return 0;
+  // The command must be affine in time over the whole jump (the step after it included): an
+  // EUMOS rise is a phase, but its velocity is quadratic.
+  auto affine = [&](auto&& v) {
+    const double v0 = v(k_ * dt_), v1 = v((k_ + n) * dt_);
+    for (int j : {n / 4, n / 2, (3 * n) / 4, n + 1}) {
+      const double expected = v0 + (v1 - v0) * j / n;
+      if (std::abs(v((k_ + j) * dt_) - expected) > 1e-7 * (1.0 + std::abs(expected))) return false;
+    }
+    return true;
+  };
+  if (!affine([&](double t) { return profile_.velocity_at(t); })) return 0;
+  if (!affine([&](double t) { return profile_.lateral_velocity_at(t); })) return 0;
+  return n;
+}
+
+void ProbeRun::shift(Pose& p) const {
+  p.pos[0] += skip_dx_;
+  p.pos[1] += skip_dy_;
+}
+
+// The share of the barrier the load's energy must stay below: the barriers are first-order in the
+// distance (a rocking item's centre of mass rises by (b/2)/h per metre only while the angle is
+// small) and friction dissipates at mu N only while N is the item's weight.
+constexpr double kBarrierShare = 0.5;
+/// The aftermath of a failure lasts at least this long before a load moving with the belt ends it.
+constexpr double kMinAftermathS = 0.25;
+
+double ProbeRun::potential_energy(const mjModel& m, const mjData& d) const {
+  double pe = 0.0;
+  for (int b = 1; b < m.nbody; ++b) {
+    if (b != scene_->layout.belt_body) pe += m.body_mass[b] * d.xipos[3 * b + 2];
+  }
+  return pe * kGravity;
+}
+
+bool ProbeRun::below_barrier(const mjModel& m, const mjData& d, const Trace::BeltState& belt,
+                             const DetectorReadings& r) {
+  const RestBarriers& b = scene_->barriers;
+  const DetectorThresholds& t = o_.thresholds;
+  const double s_item = std::min(t.item_slide_m - r.item_slide_m,
+                                 0.5 * (t.load_shift_m - r.load_shift_m));  // both items move
+  const double s_slip = t.pallet_slip_m - r.pallet_slip_m;
+  const double s_tilt = (t.tip_deg - r.tilt_deg) * std::numbers::pi / 180.0;
+  if (!(s_item > 0.0 && s_slip > 0.0 && s_tilt > 0.0)) return false;
+  const double barrier = std::min(
+      {b.item_force_n * s_item, b.pallet_slip_force_n * s_slip, b.tilt_moment_nm * s_tilt});
+  const SceneLayout& l = scene_->layout;
+  vrel_.assign(d.qvel, d.qvel + m.nv);
+  vrel_[std::size_t(l.belt_x_dof)] = 0.0;
+  vrel_[std::size_t(l.belt_y_dof)] = 0.0;
+  auto relative = [&](int dof) {
+    vrel_[std::size_t(dof)] -= belt.vx;
+    vrel_[std::size_t(dof) + 1] -= belt.vy;
+  };
+  relative(l.pallet_dof);
+  for (int dof : l.item_dofs) relative(dof);
+  mv_.resize(vrel_.size());
+  mj_mulM(&m, &d, mv_.data(), vrel_.data());
+  double kinetic = 0.0;
+  for (std::size_t i = 0; i < vrel_.size(); ++i) kinetic += 0.5 * vrel_[i] * mv_[i];
+  return kinetic + potential_energy(m, d) - pe0_ < kBarrierShare * barrier;
+}
+
+void ProbeRun::unstable(const std::string& reason) {
+  r_.outcome = Outcome::unstable;
+  r_.reason = reason;
+  r_.failure.reset();
+  done_ = true;
+}
+
+void ProbeRun::engine_error(const std::string& reason) {
+  const std::string why = reason + " (at t = " + fixed((k_ + 1) * dt_, 3) + " s)";
+  if (r_.failure) {  // the verdict came first: only the aftermath is cut short
+    r_.aftermath_cut = why;
+    done_ = true;
+    return;
+  }
+  unstable(why);
+}
+
+void ProbeRun::finish(const mjModel& m, const mjData& d) {
+  done_ = true;
+  if (r_.outcome == Outcome::unstable) {
+    r_.failure.reset();
+    return;
+  }
+  if (auto reason = instability_reason(&m, &d)) {
+    const std::string why = *reason + " (by t = " + fixed(r_.sim_time_s, 3) + " s)";
+    if (r_.failure) {
+      r_.aftermath_cut = why;
+    } else {
+      unstable(why);
+    }
+  }
+}
+
+bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
+  const SceneLayout& l = scene_->layout;
+  const int k = ++k_;
+  const double t_next = k * dt_;
+  r_.steps = k;
+  r_.sim_time_s = t_next;
+  std::optional<std::string> broken;
+  if (is_cancelled(o_.cancel)) broken = std::string(kCancelledReason);
+  if (!broken && any_warning(d)) {
+    broken = instability_reason(&m, &d).value_or("MuJoCo raised a warning");
+  }
+  if (!broken) {
+    broken = belt_watch_.check(
+        std::hypot(d.qvel[l.belt_x_dof] - command_x_, d.qvel[l.belt_y_dof] - command_y_));
+  }
+  if (!broken && d.xpos[3 * l.pallet_body + 2] < fall_through_z_) {
+    broken = std::string("the pallet sank through the belt: contacts could not hold it");
+  }
+  if (broken) {
+    const std::string why = *broken + " (at t = " + fixed(t_next, 3) + " s)";
+    if (r_.failure && !is_cancelled(o_.cancel)) {  // after the verdict: the aftermath ends here
+      r_.aftermath_cut = why;
+      done_ = true;
+    } else {
+      unstable(why);
+    }
+    return false;
+  }
+  const Trace::BeltState belt{d.qpos[l.belt_x_qpos] - belt_x0_, d.qpos[l.belt_y_qpos] - belt_y0_,
+                              d.qvel[l.belt_x_dof], d.qvel[l.belt_y_dof]};
+  const Pose pallet = body_pose(d, l.pallet_body);
+  read_item_poses(l, d, items_);
+  if (o_.record_trace) r_.trace.push(t_next, belt, pallet, items_);
+  if (k == 1) pe0_ = potential_energy(m, d);
+  DetectorReadings readings;
+  if (!r_.failure) {
+    if (auto event = detector_.update(t_next, belt, pallet, items_, &readings)) {
+      r_.failure = std::move(event);
+      r_.outcome = Outcome::failed;
+      if (o_.fail_fast) {
+        finish(m, d);
+        return false;
+      }
+    }
+  }
+  // Co-moving: within the current phase for skipping, after the last breakpoint for the early stop.
+  std::size_t phase = 0;
+  while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
+  if (phase != phase_) dwell_steps_ = 0;
+  phase_ = phase;
+  const bool want_stop = o_.early_stop && !r_.failure && t_next >= last_breakpoint_;
+  const bool want_skip = o_.skip_comoving && !r_.failure && k < n_steps_;
+  bool comoving = false;
+  if (want_stop || want_skip) {
+    double spin = 0.0;
+    const double speed = max_relative_speed(l, d, belt.vx, belt.vy, &spin);
+    comoving = speed < o_.comove_speed_mps && spin < o_.comove_spin_radps;
+  }
+  // Skipping also needs the load steady, not at the turning point of a slow rock (velocities
+  // matching the belt's for an instant while the accelerations do not).
+  bool steady = false;
+  if (want_skip && comoving) {
+    double spin_accel = 0.0;
+    const double accel = max_relative_accel(l, d, &spin_accel);
+    steady = accel < o_.comove_speed_mps / o_.skip_dwell_s &&
+             spin_accel < o_.comove_spin_radps / o_.skip_dwell_s;
+  }
+  dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
+  if (want_stop) {
+    comove_steps_ = comoving ? comove_steps_ + 1 : 0;
+    calm_steps_ = !comoving && below_barrier(m, d, belt, readings) ? calm_steps_ + 1 : 0;
+    if (comove_steps_ >= comove_needed_ || calm_steps_ >= calm_needed_) {
+      r_.stopped_early = k < n_steps_;
+      finish(m, d);
+      return false;
+    }
+  }
+  if (want_skip) {
+    if (const int n = plan_skip(); n > 0) {
+      const double t0 = k * dt_, t1 = (k + n) * dt_;
+      const double v0x = profile_.velocity_at(t0), v1x = profile_.velocity_at(t1);
+      const double v0y = profile_.lateral_velocity_at(t0), v1y = profile_.lateral_velocity_at(t1);
+      // Semi-implicit Euler moves the belt by dt * v(t_j) per step: n dt v0 + a dt^2 n(n+1)/2.
+      const double sum = 0.5 * (n + 1) * dt_;  // dt^2 n(n+1)/2 divided by n dt
+      skip_dx_ = n * dt_ * v0x + (v1x - v0x) * sum;
+      skip_dy_ = n * dt_ * v0y + (v1y - v0y) * sum;
+      skip_dvx_ = v1x - v0x;
+      skip_dvy_ = v1y - v0y;
+      skip_n_ = n;
+      k_ = k + n;
+      r_.steps = k_;
+      r_.sim_time_s = t1;
+      r_.steps_skipped += n;
+      r_.skipped_s += n * dt_;
+      // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
+      // under the belt's rigid motion: the detector is run for consistency, not for news).
+      Pose pallet1 = pallet;
+      shift(pallet1);
+      for (auto& item : items_) shift(item);
+      const Trace::BeltState belt1{belt.x + skip_dx_, belt.y + skip_dy_, belt.vx + skip_dvx_,
+                                   belt.vy + skip_dvy_};
+      if (o_.record_trace) r_.trace.push(t1, belt1, pallet1, items_);
+      if (auto event = detector_.update(t1, belt1, pallet1, items_)) {
+        r_.failure = std::move(event);
+        r_.outcome = Outcome::failed;
+        if (o_.fail_fast) {
+          finish(m, d);
+          return false;
+        }
+      }
+    }
+  }
+  if (r_.failure && o_.follow_failure_s > 0.0) {
+    // The aftermath: until the load moves with the belt again or the time is up, past the
+    // profile's end if need be (the belt keeps its last command).
+    double spin = 0.0;
+    const bool with_belt =
+        max_relative_speed(l, d, belt.vx, belt.vy, &spin) < o_.comove_speed_mps &&
+        spin < o_.comove_spin_radps;
+    settled_after_failure_ = with_belt ? settled_after_failure_ + 1 : 0;
+    const double since = t_next - r_.failure->time_s;
+    if (since >= o_.follow_failure_s ||
+        (since >= kMinAftermathS && settled_after_failure_ >= comove_needed_)) {
+      finish(m, d);
+      return false;
+    }
+    return true;
+  }
+  if (k_ >= n_steps_) {
+    finish(m, d);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace pb

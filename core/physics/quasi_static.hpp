@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+// Closed-form quasi-static bounds: the acceleration at which each interface would start to slip
+// (mu g) and each sub-stack would start to tip (g (b/2) / h), along and across the belt. The
+// cheapest rung of the fidelity ladder, and the seed of every envelope search.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/base/enums.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/inputs/friction.hpp"
+
+namespace pb {
+
+inline constexpr double kGravity = 9.81;
+
+/// What gives way: a Coulomb slip (onset mu g) or a tip (onset g (b/2) / h).
+enum class Mechanism { pallet_slip, load_tip, item_slip_on_deck, item_slip_on_item, stack_tip };
+
+struct QuasiStaticLimit {
+  double accel_mps2 = 0.0;
+  FailureMode mode = FailureMode::no_failure;
+  Mechanism mechanism = Mechanism::pallet_slip;
+  std::string what;  ///< "item 7 slips on item 3 (mu 0.34)"
+  int item = -1;     ///< the item concerned, -1 for the pallet
+};
+
+struct QuasiStaticBounds {
+  std::vector<QuasiStaticLimit> along;   ///< every mechanism along the belt (X)
+  std::vector<QuasiStaticLimit> across;  ///< every mechanism across it (Y)
+  QuasiStaticLimit weakest_along() const;
+  QuasiStaticLimit weakest_across() const;
+  /// The load moves as one body: its only mechanisms are the pallet slipping and the whole load
+  /// tipping (a wrapped load).
+  bool one_body() const;
+};
+
+/// Mechanisms: the pallet slipping on the belt; the whole load tipping over the pallet's edge;
+/// and, for unwrapped loads (a wrap holds its items), every item slipping on what carries it and
+/// every sub-stack (an item and all it carries) tipping over that item's bottom edge. Frictions
+/// are the effective (frost-penalised) static values.
+QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction);
+
+}  // namespace pb

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+// PalletConfig -> MJCF text -> compiled MuJoCo model, modelling no more than the scene needs:
+// boxes on free joints, a velocity-driven belt (X, and Y for curves), explicit contact pairs only
+// between surfaces that can touch (each with its own friction from the temperature model), a
+// lateral gap between neighbouring cartons, wrap as welds of a physical stiffness, and buffers
+// sized from the scene.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/base/diagnostic.hpp"
+#include "core/contract/pallet_config.hpp"
+#include "core/inputs/friction.hpp"
+#include "core/physics/clustering.hpp"
+#include "core/physics/engine.hpp"
+
+namespace pb {
+
+enum class Integrator { euler, implicit, rk4 };
+enum class Solver { newton, pgs, cg };
+enum class Cone { pyramidal, elliptic };
+
+/// Numerical settings of a scene. Defaults are the shipped configuration (see core/README.md for
+/// the measurements behind each).
+struct SceneOptions {
+  double timestep_s = 0.002;
+  Integrator integrator = Integrator::euler;  ///< implicit adds false creep with a velocity belt
+  Solver solver = Solver::newton;
+  Cone cone = Cone::pyramidal;
+  double impratio = 1.0;
+  int iterations = 100;
+  double tolerance = 1e-8;
+  /// Contact softness. A stiff impedance keeps tip thresholds within a fraction of a percent of
+  /// closed form (the soft default tips 2-3 % early: the rear edge sinks in).
+  std::array<double, 2> contact_solref{0.02, 1.0};
+  std::array<double, 5> contact_solimp{0.99, 0.999, 0.001, 0.5, 2.0};
+  /// Belt: a heavy body on slide joints driven by velocity actuators with kv = ratio * M / dt.
+  /// Explicit (Euler) integration of kv is stable for ratio < 2; 1 is deadbeat tracking.
+  double belt_mass_kg = 2000.0;
+  double belt_kv_ratio = 1.0;
+  /// Neighbouring cartons closer than this are pulled apart to this gap (each face by half of
+  /// what is missing): touching faces cost 2-3x and add nothing.
+  double lateral_gap_m = 0.0015;
+  /// Items whose boxes come within this distance horizontally (with touching or overlapping
+  /// heights) get a contact pair; farther ones cannot touch before a detector fires.
+  double neighbour_distance_m = 0.05;
+  bool wrap_welds = true;  ///< false: ignore wrap (for studies)
+  /// false: simulate a load validate()'s standing rule refuses (to measure the rule against the
+  /// simulation: `study standing`). Every other rule still applies.
+  bool require_standing = true;
+  /// The reduced model (Fidelity::reduced): items a wrap holds are merged into the pallet body
+  /// (each stays a body without a joint, fixed where it rests, so MuJoCo composes the exact mass,
+  /// centre of mass and inertia, and every item pose is still computed); the belt/pallet contact
+  /// is the only contact. No effect on an unwrapped pallet or with wrap_welds off.
+  bool merge_wrapped = false;
+  /// The clustered model (Fidelity::clustered, clustering.hpp): per item, what it is merged into
+  /// rigidly (kOnPallet, another item's index) or kFreeItem; contacts inside one rigid body are
+  /// dropped. Empty: every item free (or merged by merge_wrapped). Ignored unless its size is the
+  /// number of items, and for a wrapped load (its welds decide).
+  std::vector<int> rigid_carrier;
+  /// The wreck after a failure (Analyzer::solve's replay): besides the pairs, whatever touches
+  /// collides (every geom gets contype = conaffinity = 1 and the friction of its kind: item/item
+  /// for items, item/pallet for the pallet, belt/pallet for the belt; MuJoCo takes the larger of
+  /// two), so falling cartons land on the deck, each other and the belt; buffers get 4 contacts
+  /// more per item. Until something touches that no pair covers, the contacts and so the motion
+  /// are the same as without it (MuJoCo merges predefined pairs in their order and skips their
+  /// geoms among the dynamic ones).
+  bool aftermath = false;
+  /// Buffer sizes; <= 0 means sized from the scene (times buffer_scale, which the Analyzer doubles
+  /// after an overflow).
+  double buffer_scale = 1.0;
+  int nconmax = 0;
+  int njmax = 0;
+  int nstack = 0;
+
+  bool operator==(const SceneOptions&) const = default;
+};
+
+/// MuJoCo 2.2's preallocated buffers of a scene.
+struct BufferSizes {
+  int nconmax = 0, njmax = 0, nstack = 0;
+  /// What one mjData of them takes (its njmax x njmax efc_AR and the stack dominate), bytes.
+  double data_bytes() const;
+};
+
+/// The most one simulation of a scene may take. MuJoCo 2.2 holds an njmax x njmax matrix per
+/// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all); the
+/// envelope runs up to four at once. 256 MB is an njmax of about 5,600: some 1,400 resting
+/// contacts, about 300 stacked cartons.
+inline constexpr double kMaxSimulationBytes = 256.0 * 1024 * 1024;
+
+/// The buffers build_mjcf sizes for a pallet (no friction or engine needed).
+BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options);
+
+/// Where things are in the compiled model.
+struct SceneLayout {
+  int belt_body = -1;
+  int pallet_body = -1;
+  std::vector<int> item_bodies;
+  int belt_x_qpos = -1, belt_y_qpos = -1;
+  int belt_x_dof = -1, belt_y_dof = -1;
+  int belt_x_act = -1, belt_y_act = -1;
+  int pallet_qpos = -1;  ///< free joint: 7 qpos (pos, quat), 6 dofs from pallet_dof
+  int pallet_dof = -1;
+  /// The free items' joints, in item order (merged items have none).
+  std::vector<int> item_qpos;
+  std::vector<int> item_dofs;
+  bool merged = false;  ///< every item is merged into the pallet body (the reduced model)
+  int free_items = 0;   ///< items on their own free joint
+  int contact_pairs = 0;
+  int welds = 0;
+};
+
+/// What it takes to move the load away from rest, from the quasi-static onsets (quasi_static.hpp)
+/// times the masses they hold: a slip of onset mu g dissipates m mu g per metre of slide, a tip of
+/// onset g (b/2) / h lifts the centre of mass by (b/2) / h per metre it moves sideways, m g of
+/// work each. So moving an item a distance s costs at least m a_onset s; tilting the whole load by
+/// an angle theta about the pallet's bottom edge costs M g lever theta.
+struct RestBarriers {
+  /// The least m_i x onset_i over the free items (slip on what carries it, tip of the sub-stack
+  /// it carries over its bottom edge; a wrapped load's as if unwrapped: a wrap only adds
+  /// resistance; infinite when no item is free), N.
+  double item_force_n = 0.0;
+  double pallet_slip_force_n = 0.0;  ///< M_total mu_belt g
+  double tilt_moment_nm = 0.0;       ///< M_total g (the centre of mass's distance to the edge)
+};
+
+struct Scene {
+  PalletConfig config;
+  SceneOptions options;
+  ContactFriction friction;
+  std::string mjcf;
+  ModelPtr model;
+  SceneLayout layout;
+  RestBarriers barriers;
+};
+
+/// The MJCF text of a pallet on the belt (what `palletballet-cli mjcf` writes; MuJoCo's viewer
+/// opens it). Pure text: no validation, no engine.
+std::string build_mjcf(const PalletConfig& config, const ContactFriction& friction,
+                       const SceneOptions& options);
+
+/// Why these numerical settings cannot give a trustworthy answer for this scene, or nullopt: a wrap
+/// weld whose
+/// natural frequency is not resolved by the timestep (sqrt(K') dt >= 1) rings and diverges; above
+/// 10 ms a resting load sinks more than the phantom-contact filter's 1 cm in one step and falls
+/// through. A run of such a scene is `unstable` before it starts. (A belt drive integrated beyond
+/// its stability limit, kv dt / M >= 2 with Euler, is caught while it runs: its error grows.)
+std::optional<std::string> numerical_limits_problem(const Scene& scene);
+
+/// Validates the pallet (errors make it fail; a pallet that cannot exist is not simulated), takes
+/// friction from `friction_model`, writes and compiles the MJCF.
+Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options = {},
+                          const FrictionModel& friction_model = FrictionModel::builtin());
+
+}  // namespace pb

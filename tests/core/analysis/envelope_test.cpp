@@ -1,0 +1,566 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/envelope.hpp"
+
+#include <QtTest>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/physics/scene.hpp"
+#include "core/physics/simulate.hpp"
+#include "tests/core/test_friction.hpp"
+#include "tests/core/test_pallets.hpp"
+
+using namespace pb;
+
+namespace {
+
+constexpr double g = kGravity;
+
+Item carton(Vec3 dims, double kg) {
+  Item item;
+  item.sku = "test";
+  item.weight_kg = kg;
+  item.dims_m = dims;
+  item.position = {0.0, 0.0, 0.15};
+  return item;
+}
+
+// One load on an unwrapped EUR pallet, built, settled and bounded.
+struct Settled {
+  std::unique_ptr<Scene> scene;  // the Simulator keeps a pointer: never moves
+  std::optional<Simulator> sim;
+  RestState rest;
+  QuasiStaticBounds bounds;
+};
+
+std::unique_ptr<Settled> settle(const PalletConfig& config, const test::ConstantMu& mu,
+                                const SceneOptions& options = {}) {
+  auto scene = build_scene(config, options, test::constant_friction(mu));
+  if (!scene) qFatal("scene: %s", to_string(scene.diagnostics[0]).c_str());
+  auto out = std::make_unique<Settled>();
+  out->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto sim = Simulator::create(*out->scene);
+  if (!sim) qFatal("simulator: %s", to_string(sim.diagnostics[0]).c_str());
+  out->sim.emplace(std::move(*sim.value));
+  auto rest = out->sim->settle();
+  if (!rest) qFatal("settle: %s", to_string(rest.diagnostics[0]).c_str());
+  out->rest = std::move(*rest.value);
+  out->bounds = quasi_static_bounds(out->scene->config, out->scene->friction);
+  return out;
+}
+
+std::unique_ptr<Settled> settle(const Item& item, const test::ConstantMu& mu,
+                                const SceneOptions& options = {}) {
+  return settle(test::pallet({item}), mu, options);
+}
+
+// The same load with a belt drive Euler cannot integrate (kv dt / M = 4): every probe of it is
+// unstable. Not settled: probes start from the stable scene's rest state.
+std::unique_ptr<Settled> unstable_belt(const Settled& stable, const test::ConstantMu& mu) {
+  SceneOptions options;
+  options.belt_kv_ratio = 4.0;
+  auto scene = build_scene(stable.scene->config, options, test::constant_friction(mu));
+  if (!scene) return nullptr;
+  auto out = std::make_unique<Settled>();
+  out->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto sim = Simulator::create(*out->scene);
+  if (!sim) return nullptr;
+  out->sim.emplace(std::move(*sim.value));
+  return out;
+}
+
+// How far a load slides on its support in a probe that accelerates the support at `a` for `t`
+// seconds and then holds its speed, with Coulomb friction mu g: it lags at (a - mu g) during the
+// ramp, then catches up decelerating at mu g. Zero below mu g.
+double slide(double a, double t, double mu_g) {
+  if (a <= mu_g) return 0.0;
+  const double lag_speed = (a - mu_g) * t;
+  return 0.5 * (a - mu_g) * t * t + lag_speed * lag_speed / (2.0 * mu_g);
+}
+
+// The smallest `a` for which slide(a, ramp(a)) exceeds `distance` (bisection to 1e-9).
+// Probes end early once the load rides with the belt; hold_s is their cap after the motion.
+const double kHold = SearchConfig{}.hold_s;
+
+template <class Ramp>
+double slide_threshold(double mu_g, double distance, Ramp ramp) {
+  double lo = mu_g, hi = 100.0;
+  while (hi - lo > 1e-9) {
+    const double mid = 0.5 * (lo + hi);
+    (slide(mid, ramp(mid), mu_g) > distance ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+// Two loads whose start-up limit lies inside the range and whose failure is monotone: a stack of
+// two cartons that slides and a tall carton that tips.
+std::vector<std::pair<PalletConfig, test::ConstantMu>> slider_and_tipper() {
+  return {
+      {test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4}},
+      {test::pallet({test::carton(0, 0, 0.15, {0.2, 0.2, 0.6})}), {1.0, 0.6, 0.6}},
+  };
+}
+
+QByteArray describe(const AxisLimit& a) {
+  return QByteArray::fromStdString("limit " + std::to_string(a.limit) + ", " +
+                                   std::to_string(a.probes) + " probes, mode " +
+                                   std::string(to_string(a.mode)));
+}
+
+}  // namespace
+
+class EnvelopeTest : public QObject {
+  Q_OBJECT
+
+  const SearchConfig search_{};
+  const LineDescription line_{};
+  const double item_slide_m_ = DetectorThresholds{}.item_slide_m;
+
+ private slots:
+  void axisNames() {
+    QCOMPARE(to_string(Axis::accel), std::string_view("accel"));
+    QCOMPARE(to_string(Axis::decel), std::string_view("decel"));
+    QCOMPARE(to_string(Axis::lateral), std::string_view("lateral"));
+    QCOMPARE(to_string(Axis::speed), std::string_view("speed"));
+  }
+
+  // Ramp at a to speed_max (2 m/s), but for max_ramp_s (2 s) at most; then hold_s at most.
+  void accelProbeRampsThenHolds() {
+    const ConveyorProfile fast = accel_probe_profile(3.0, search_);
+    QCOMPARE(fast.shape, ProfileShape::accel_hold);
+    QCOMPARE(fast.accel_mps2, 3.0);
+    QCOMPARE(fast.target_speed_mps, 2.0);
+    QCOMPARE(fast.duration_s, 2.0 / 3.0 + kHold);
+    QCOMPARE(fast.initial_speed_mps(), 0.0);
+    QCOMPARE(fast.velocity_at(0.5), 1.5);
+    QCOMPARE(fast.velocity_at(1.0), 2.0);
+    const ConveyorProfile slow = accel_probe_profile(0.4, search_);
+    QCOMPARE(slow.target_speed_mps, 0.8);  // capped by the 2 s ramp
+    QCOMPARE(slow.duration_s, 2.0 + kHold);
+    QVERIFY(validate_profile(fast).empty());
+    QVERIFY(validate_profile(slow).empty());
+    QVERIFY(validate_profile(accel_probe_profile(search_.accel_min_mps2, search_)).empty());
+  }
+
+  // At speed from t = 0; 50 ms later the belt stops at d; then hold_s.
+  void decelProbeStopsFromSpeed() {
+    const ConveyorProfile p = decel_probe_profile(4.0, 2.0, search_);
+    QCOMPARE(p.shape, ProfileShape::estop);
+    QCOMPARE(p.decel_mps2, 4.0);
+    QCOMPARE(p.target_speed_mps, 2.0);
+    QCOMPARE(p.initial_speed_mps(), 2.0);
+    QCOMPARE(p.decel_start_s, 0.05);
+    QCOMPARE(p.duration_s, 0.05 + 0.5 + kHold);
+    QCOMPARE(p.velocity_at(0.05), 2.0);
+    QCOMPARE(p.velocity_at(0.55), 0.0);
+    QVERIFY(validate_profile(p).empty());
+    QVERIFY(validate_profile(decel_probe_profile(search_.decel_min_mps2, 2.0, search_)).empty());
+  }
+
+  void stopProbeIsTheLineEstop() {
+    LineDescription line;
+    line.estop_decel_mps2 = 3.5;
+    QCOMPARE(stop_probe_profile(1.2, line, search_), decel_probe_profile(3.5, 1.2, search_));
+  }
+
+  // The curve is taken at the speed that gives the lateral acceleration, v = sqrt(a r); an arc
+  // that would take longer than max_ramp_s is cut to that time.
+  void lateralProbeTakesTheCurve() {
+    const ConveyorProfile tight = lateral_probe_profile(0.5, line_, search_);
+    QCOMPARE(tight.shape, ProfileShape::curve);
+    QCOMPARE(tight.curve_radius_m, 3.0);
+    QVERIFY(std::abs(tight.lateral_accel_mps2() - 0.5 * g) < 1e-12);
+    const double arc = 3.0 * std::numbers::pi / 2.0 / tight.target_speed_mps;  // 1.23 s
+    QVERIFY(arc < search_.max_ramp_s);
+    QCOMPARE(tight.curve_angle_deg, 90.0);
+    QCOMPARE(tight.curve_start_s, 0.05);
+    QVERIFY(std::abs(tight.duration_s - (0.05 + arc + kHold)) < 1e-12);
+    QCOMPARE(tight.initial_speed_mps(), tight.target_speed_mps);
+
+    const ConveyorProfile gentle = lateral_probe_profile(0.1, line_, search_);
+    QVERIFY(std::abs(gentle.lateral_accel_mps2() - 0.1 * g) < 1e-12);
+    const double full_arc = 3.0 * std::numbers::pi / 2.0 / gentle.target_speed_mps;  // 2.75 s
+    QVERIFY(full_arc > search_.max_ramp_s);
+    QVERIFY(std::abs(gentle.curve_angle_deg - 90.0 * 2.0 / full_arc) < 1e-9);
+    QVERIFY(std::abs(gentle.duration_s - (0.05 + 2.0 + kHold)) < 1e-12);
+    // The belt moves sideways for exactly max_ramp_s.
+    QVERIFY(std::abs(gentle.lateral_velocity_at(gentle.duration_s) - 0.1 * g * 2.0) < 1e-9);
+    for (const double lat : {search_.lateral_min_g, 0.1, 0.5}) {
+      QVERIFY(validate_profile(lateral_probe_profile(lat, line_, search_)).empty());
+    }
+  }
+
+  // A low 10 kg carton (mu 0.3 on the deck, tips only beyond 1.5 g) on a pallet that cannot slip
+  // (mu 1 on the belt). Each limit must sit within one precision step below the closed-form
+  // threshold of its probe (Coulomb sliding, finite detection distance, finite ramp).
+  void singleCartonLimitsMatchClosedForm() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    const double mu_g = 0.3 * g;
+    QVERIFY(std::abs(s->bounds.weakest_along().accel_mps2 - mu_g) < 1e-12);
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY2(env.ok(), env.ok() ? "" : to_string(env.diagnostics[0]).c_str());
+
+    // Start-up and stop: the load changes speed by 2 m/s at a, for 2 / a seconds (3.18 m/s^2).
+    const double ramp_threshold =
+        slide_threshold(mu_g, item_slide_m_, [](double a) { return 2.0 / a; });
+    QVERIFY(ramp_threshold > 3.1 && ramp_threshold < 3.25);
+    for (const AxisLimit* axis : {&env->accel, &env->decel}) {
+      QVERIFY2(axis->limit <= ramp_threshold + 0.01 && axis->limit >= ramp_threshold - 0.1,
+               describe(*axis));
+      QCOMPARE(axis->mode, FailureMode::top_item_slide);
+      QVERIFY(!axis->at_ceiling && !axis->at_floor);
+      // Seeded just above mu g, the walk up brackets the threshold in 3 probes (seed, +0.1,
+      // +0.2 more) and bisection of that 0.2 bracket needs at most 2 (one for rounding of a
+      // difference of exactly 0.1): 5, which is what it takes here.
+      QVERIFY2(axis->probes <= 5, describe(*axis));
+    }
+    // Curve: lateral mu g, for the arc's time at v = sqrt(a r) (0.304 g).
+    const double curve_threshold =
+        slide_threshold(
+            mu_g, item_slide_m_,
+            [](double a) { return 3.0 * std::numbers::pi / 2.0 / std::sqrt(a * 3.0); }) /
+        g;
+    QVERIFY2(env->lateral.limit <= curve_threshold + 0.002 &&
+                 env->lateral.limit >= curve_threshold - 0.01,
+             describe(env->lateral));
+    QCOMPARE(env->lateral.mode, FailureMode::top_item_slide);
+    QVERIFY2(env->lateral.probes <= 5, describe(env->lateral));
+    // A 2 m/s^2 e-stop is below mu g: the carton never slides, from any speed; the stop search
+    // found a harder stop from speed_max safe, so no probe is needed.
+    QVERIFY(env->speed.at_ceiling && env->speed.derived);
+    QCOMPARE(env->speed.limit, search_.speed_max_mps);
+    QCOMPARE(env->speed.mode, FailureMode::no_failure);
+    QCOMPARE(env->speed.probes, 0);
+
+    const SafetyResult& r = env->result;
+    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.max_accel_mps2, env->accel.limit);
+    QCOMPARE(r.max_decel_mps2, env->decel.limit);
+    QCOMPARE(r.max_lateral_g, env->lateral.limit);
+    QCOMPARE(r.accel_mode, FailureMode::top_item_slide);
+    // The curve at 0.3 g allows sqrt(0.3 g 3) = 2.97 m/s > 2: the speed is the ceiling.
+    QCOMPARE(r.max_speed_mps, 2.0);
+    QCOMPARE(r.speed_governed_by, std::string("ceiling"));
+    QCOMPARE(r.line_estop_decel_mps2, 2.0);
+    QCOMPARE(r.line_curve_radius_m, 3.0);
+    // The tightest axis relative to its range is the curve: (0.30 - 0.01) / 0.49 = 59 %.
+    QCOMPARE(r.dominant_failure_mode, FailureMode::top_item_slide);
+    QVERIFY(std::abs(r.margin_pct - 100.0 * (env->lateral.limit - 0.01) / 0.49) < 1e-9);
+    QCOMPARE(r.sims_run, static_cast<int>(env->probes.size()));
+    QCOMPARE(r.sims_run,
+             env->accel.probes + env->decel.probes + env->lateral.probes + env->speed.probes);
+    QCOMPARE(env->rest.qpos, s->rest.qpos);
+    // Probes are recorded in search order, each with the failure it saw.
+    QCOMPARE(env->probes.front().axis, Axis::accel);
+    QCOMPARE(env->probes.back().axis, Axis::lateral);
+    for (const Probe& p : env->probes) {
+      QCOMPARE(p.outcome == Outcome::failed, p.mode != FailureMode::no_failure);
+      if (p.axis == Axis::accel) {
+        QCOMPARE(p.outcome == Outcome::failed, p.value > env->accel.limit);
+      }
+    }
+  }
+
+  // The reference system's plain bisection over the whole range (no closed-form seed) finds the
+  // same limits within one precision step, with more probes.
+  void plainBisectionAgreesWithSeededSearch() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto seeded = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto bisected = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(seeded.ok() && bisected.ok());
+    QVERIFY2(std::abs(seeded->accel.limit - bisected->accel.limit) <= 0.1 + 1e-9,
+             describe(bisected->accel));
+    QVERIFY2(std::abs(seeded->decel.limit - bisected->decel.limit) <= 0.1 + 1e-9,
+             describe(bisected->decel));
+    QVERIFY2(std::abs(seeded->lateral.limit - bisected->lateral.limit) <= 0.01 + 1e-9,
+             describe(bisected->lateral));
+    QCOMPARE(bisected->accel.mode, FailureMode::top_item_slide);
+    QCOMPARE(bisected->lateral.mode, FailureMode::top_item_slide);
+    // The e-stop axis is safe everywhere: bisection never fails, so the ceiling is tried.
+    QVERIFY(bisected->speed.at_ceiling);
+    // Bisection of 4.9 m/s^2 to 0.1 takes 6 probes; the seeded search at most 5.
+    QCOMPARE(bisected->accel.probes, 6);
+    QVERIFY(bisected->result.sims_run > seeded->result.sims_run);
+  }
+
+  // Carton mu 0.005: it slides 5 cm even at the gentlest start-up (0.1 m/s^2 for 2 s).
+  void slipperyCartonIsRejected() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.005, 0.4});
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(env.ok());
+    QVERIFY(env->accel.at_floor);
+    QCOMPARE(env->accel.limit, 0.0);
+    QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
+    // Seeded at 0.049 + 0.1 (an item can slide: the walk starts above the onset): fails, and the
+    // floor is the only probe left. The closed form predicts the 5 cm slide below the floor.
+    QVERIFY(env->accel.closed_form < search_.accel_min_mps2 + 1e-6);
+    QCOMPARE(env->accel.probes, 2);
+    const SafetyResult& r = env->result;
+    QCOMPARE(r.verdict, std::string("reject"));
+    QCOMPARE(r.dominant_failure_mode, FailureMode::top_item_slide);
+    QCOMPARE(r.max_speed_mps, 0.0);
+    QCOMPARE(r.margin_pct, 0.0);
+    QCOMPARE(r.speed_governed_by, std::string("reject"));
+    QVERIFY2(r.reason.starts_with("Reject: unsafe at any motion; it fails at the gentlest start-up "
+                                  "tried (an item slides off)."),
+             r.reason.c_str());
+    // Stopped from 0.1 m/s by the line's 2 m/s^2 e-stop, the carton slides
+    // v^2 / 2 (1 / (mu g) - 1 / d) = 9.9 cm: the e-stop axis fails at its floor too.
+    // Regression: a stop probe must follow the carton until it stops sliding (it slid 4.5 cm
+    // by the end of a fixed 0.5 s hold, and 9.9 cm in all).
+    QVERIFY2(env->speed.at_floor, describe(env->speed));
+  }
+
+  // The closed form of a probe: a load that moves as one body (wrapped: only the pallet can slip
+  // or the whole load tip) on a belt of mu 0.2 slides 0.30 m after a ramp to 2 m/s at a when
+  // v^2 / 2 (1 / (mu g) - 1 / a) = 0.30 (the e-stop from 2 m/s likewise): a = 2.780 m/s^2. Its
+  // search starts there; MuJoCo's slip lands within one step of it, in at most three probes.
+  void oneBodyLoadIsSearchedFromItsPrediction() {
+    auto s = settle(test::pallet({test::carton(-0.25, 0, 0.15), test::carton(0.25, 0, 0.15)},
+                                 WrapType::stretch),
+                    {0.2, 0.5, 0.5});
+    const double expected = 1.0 / (1.0 / (0.2 * kGravity) - 2.0 * 0.30 / (2.0 * 2.0));
+    const AxisPredictions p = predict_envelope(s->bounds, line_, search_, {});
+    QVERIFY2(std::abs(p.accel.value - expected) < 1e-6, std::to_string(p.accel.value).c_str());
+    QVERIFY2(std::abs(p.decel.value - expected) < 1e-6, std::to_string(p.decel.value).c_str());
+    QCOMPARE(p.accel.mode, FailureMode::pallet_slip);
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(env.ok());
+    for (const AxisLimit* a : {&env->accel, &env->decel}) {
+      QCOMPARE(a->mode, FailureMode::pallet_slip);
+      QCOMPARE(a->closed_form, p.accel.value);
+      QVERIFY2(std::abs(a->limit - expected) <= search_.accel_precision_mps2, describe(*a));
+      QVERIFY2(a->probes <= 3, describe(*a));
+    }
+  }
+
+  // A tip fails at its onset; a slip that cannot slide its allowance inside the range, nowhere.
+  void predictionOfTipsAndOfSlipsThatHold() {
+    const std::vector<QuasiStaticLimit> tip{
+        {2.5, FailureMode::tip_over, Mechanism::load_tip, "tips", -1},
+        {1.0, FailureMode::pallet_slip, Mechanism::pallet_slip, "slips", -1}};
+    auto ramp = [](double a) { return 2.0 / a; };
+    const AxisPrediction t = predict_axis(tip, 1.0, 0.1, 5.0, ramp, {});
+    // mu g = 1: the pallet slides 0.30 m well below 2.5, so the slip governs.
+    QCOMPARE(t.mode, FailureMode::pallet_slip);
+    QVERIFY(t.value < 2.5);
+    const std::vector<QuasiStaticLimit> held{
+        {2.5, FailureMode::tip_over, Mechanism::load_tip, "tips", -1},
+        {4.0, FailureMode::pallet_slip, Mechanism::pallet_slip, "slips", -1}};
+    const AxisPrediction h = predict_axis(held, 1.0, 0.1, 5.0, ramp, {});
+    QCOMPARE(h.mode, FailureMode::tip_over);
+    QCOMPARE(h.value, 2.5);
+    const AxisPrediction none = predict_axis({held[1]}, 1.0, 0.1, 5.0, ramp, {});
+    QCOMPARE(none.mode, FailureMode::no_failure);  // 4 -> 5 m/s^2 for 0.4 s slides < 0.30 m
+    QCOMPARE(none.value, 5.0);
+  }
+
+  // A low 150 kg slab with mu 1 everywhere survives the top of every range: one probe per axis,
+  // each at its ceiling (every seed is above the range and is clamped to its top), and none for
+  // the stop (the slab is its own mirror image: the start-up's full ramp answers it) or the e-stop
+  // speed (the stop search found 5 m/s^2 from speed_max safe, so the line's 2 m/s^2 is).
+  void lowHeavySlabIsAtEveryCeiling() {
+    auto s = settle(carton({1.1, 0.7, 0.1}, 150.0), {1.0, 1.0, 1.0});
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY2(env.ok(), env.ok() ? "" : to_string(env.diagnostics[0]).c_str());
+    for (const AxisLimit* axis : {&env->accel, &env->decel, &env->lateral, &env->speed}) {
+      QVERIFY2(axis->at_ceiling, describe(*axis));
+      QCOMPARE(axis->mode, FailureMode::no_failure);
+      QCOMPARE(axis->probes, axis == &env->decel || axis == &env->speed ? 0 : 1);
+    }
+    QVERIFY(env->decel.derived && env->speed.derived);
+    QCOMPARE(env->probes.size(), std::size_t{2});
+    const SafetyResult& r = env->result;
+    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.dominant_failure_mode, FailureMode::no_failure);
+    QCOMPARE(r.margin_pct, 100.0);
+    QCOMPARE(r.max_accel_mps2, 5.0);
+    QCOMPARE(r.max_decel_mps2, 5.0);
+    QCOMPARE(r.max_lateral_g, 0.5);
+    QCOMPARE(r.max_speed_mps, 2.0);
+    QCOMPARE(r.speed_governed_by, std::string("ceiling"));
+  }
+
+  // A probe MuJoCo breaks (here: a belt drive that Euler cannot integrate, kv dt / M = 4) gives
+  // no verdict at all.
+  void unstableProbeGivesNoVerdict() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto broken = unstable_belt(*s, {1.0, 0.3, 0.4});
+    QVERIFY(broken);
+    Simulator& sim = *broken->sim;
+    auto env = search_envelope(sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(!env.ok());
+    QCOMPARE(env.diagnostics.size(), std::size_t{1});
+    QVERIFY2(env.diagnostics[0].message.starts_with(
+                 "the simulation became numerically unstable, so no verdict is given: accel "
+                 "probe at "),
+             env.diagnostics[0].message.c_str());
+  }
+  // k-section (parallel_probes k > 1: k probes of the bisection grid per round, one batched call)
+  // finds bitwise the same limits and modes as serial bisection (k = 1) when failure is monotone:
+  // a stack of two cartons that slides and a tall carton that tips.
+  void kSectionMatchesBisection() {
+    for (const auto& [config, mu] : slider_and_tipper()) {
+      auto s = settle(config, mu);
+      auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+      QVERIFY2(serial.ok(), serial.ok() ? "" : to_string(serial.diagnostics[0]).c_str());
+      // The start-up limit is bracketed inside its range, so rounds of k-section do run.
+      QVERIFY2(!serial->accel.at_ceiling && !serial->accel.at_floor, describe(serial->accel));
+      for (const int k : {2, 3}) {
+        SearchConfig parallel = search_;
+        parallel.parallel_probes = k;
+        auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, parallel);
+        QVERIFY2(env.ok(), env.ok() ? "" : to_string(env.diagnostics[0]).c_str());
+        const std::pair<const AxisLimit*, const AxisLimit*> axes[] = {
+            {&serial->accel, &env->accel},
+            {&serial->decel, &env->decel},
+            {&serial->lateral, &env->lateral},
+            {&serial->speed, &env->speed}};
+        for (const auto& [a, b] : axes) {
+          QVERIFY2(a->limit == b->limit, describe(*a) + " vs k-section " + describe(*b));
+          QCOMPARE(b->mode, a->mode);
+          QCOMPARE(b->at_ceiling, a->at_ceiling);
+          QCOMPARE(b->at_floor, a->at_floor);
+        }
+        QCOMPARE(env->result.verdict, serial->result.verdict);
+        QCOMPARE(env->result.max_speed_mps, serial->result.max_speed_mps);
+        QCOMPARE(env->result.dominant_failure_mode, serial->result.dominant_failure_mode);
+        // Every probe run is kept and counted.
+        QCOMPARE(env->result.sims_run, static_cast<int>(env->probes.size()));
+        QCOMPARE(env->result.sims_run,
+                 env->accel.probes + env->decel.probes + env->lateral.probes + env->speed.probes);
+        // Monotone: every probe above an axis limit failed, every one at or below it was safe.
+        for (const Probe& p : env->probes) {
+          const AxisLimit& limit = p.axis == Axis::accel     ? env->accel
+                                   : p.axis == Axis::decel   ? env->decel
+                                   : p.axis == Axis::lateral ? env->lateral
+                                                             : env->speed;
+          QCOMPARE(p.outcome == Outcome::failed, limit.at_floor || p.value > limit.limit);
+        }
+      }
+    }
+  }
+
+  // The plain (unseeded) search is k-sectioned from its first probe: same limits as bisection.
+  void kSectionOfPlainSearchMatchesBisection() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    plain.parallel_probes = 3;
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(serial.ok() && env.ok());
+    QVERIFY2(serial->accel.limit == env->accel.limit, describe(env->accel));
+    QVERIFY2(serial->lateral.limit == env->lateral.limit, describe(env->lateral));
+    QCOMPARE(env->accel.mode, serial->accel.mode);
+    QVERIFY(env->speed.at_ceiling);
+    // 4.9 m/s^2 to 0.1: the bisection grid has 65 points; 3 probes a round take 3 rounds (64 ->
+    // 16 -> 4 -> 1 intervals): 9 probes for bisection's 6, in half the rounds.
+    QCOMPARE(env->accel.probes, 9);
+  }
+
+  // An unstable probe inside a batched round still makes the envelope fail with its reason; a
+  // negative k is refused, naming the field.
+  void kSectionUnstableProbeAndBadK() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto broken = unstable_belt(*s, {1.0, 0.3, 0.4});
+    QVERIFY(broken);
+    Simulator& sim = *broken->sim;
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;  // the first probes are a batched round
+    plain.parallel_probes = 2;
+    auto env = search_envelope(sim, s->rest, s->bounds, line_, plain);
+    QVERIFY(!env.ok());
+    QVERIFY2(env.diagnostics[0].message.starts_with(
+                 "the simulation became numerically unstable, so no verdict is given: accel "
+                 "probe at "),
+             env.diagnostics[0].message.c_str());
+
+    SearchConfig bad = search_;
+    bad.parallel_probes = -1;
+    auto refused = search_envelope(*s->sim, s->rest, s->bounds, line_, bad);
+    QVERIFY(!refused.ok());
+    QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/parallel_probes"));
+  }
+
+  // The axes searched side by side (axis_threads) run bitwise the probes of one axis after
+  // another, reported in axis order: a sliding two-carton stack and a tall carton that tips.
+  void axisThreadsRunTheSameProbes() {
+    for (const auto& [config, mu] : slider_and_tipper()) {
+      auto s = settle(config, mu);
+      SearchConfig one = search_;
+      one.axis_threads = 1;
+      auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, one);
+      QVERIFY(serial.ok());
+      for (const int threads : {2, 4}) {
+        SearchConfig side_by_side = search_;
+        side_by_side.axis_threads = threads;
+        auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side);
+        QVERIFY(env.ok());
+        QCOMPARE(env->probes.size(), serial->probes.size());
+        for (std::size_t i = 0; i < env->probes.size(); ++i) {
+          const Probe &a = serial->probes[i], &b = env->probes[i];
+          QCOMPARE(b.axis, a.axis);
+          QCOMPARE(b.value, a.value);
+          QCOMPARE(b.outcome, a.outcome);
+          QCOMPARE(b.mode, a.mode);
+          QCOMPARE(b.failure_time_s, a.failure_time_s);
+        }
+        QCOMPARE(env->result.max_accel_mps2, serial->result.max_accel_mps2);
+        QCOMPARE(env->result.max_decel_mps2, serial->result.max_decel_mps2);
+        QCOMPARE(env->result.max_lateral_g, serial->result.max_lateral_g);
+        QCOMPARE(env->result.max_speed_mps, serial->result.max_speed_mps);
+        QCOMPARE(env->result.dominant_failure_mode, serial->result.dominant_failure_mode);
+      }
+    }
+    SearchConfig bad = search_;
+    bad.axis_threads = -1;
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
+    auto refused = search_envelope(*s->sim, s->rest, s->bounds, line_, bad);
+    QVERIFY(!refused.ok());
+    QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/axis_threads"));
+  }
+
+  // Galilean invariance: in the belt's frame a full start-up ramp and a stop from the same speed
+  // are the same pulse, mirrored. A load that is its own mirror image takes its stop limit from the
+  // start-up search (no stop probes); searched on its own, the stop lands within one step of it
+  // (a two-carton stack sliding on each other at mu g = 2.94 m/s^2: ramps of 2 / a s). A load off
+  // the mirror plane is searched on every axis.
+  void mirrorImageLoadTakesItsStopFromTheStartUp() {
+    auto s =
+        settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4});
+    auto mirrored = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(mirrored.ok());
+    QVERIFY(mirrored->decel.derived);
+    QCOMPARE(mirrored->decel.probes, 0);
+    QCOMPARE(mirrored->decel.limit, mirrored->accel.limit);
+    QCOMPARE(mirrored->decel.mode, mirrored->accel.mode);
+    for (const Probe& p : mirrored->probes) QVERIFY(p.axis != Axis::decel);
+    SearchConfig each = search_;
+    each.derive_axes = false;
+    auto separate = search_envelope(*s->sim, s->rest, s->bounds, line_, each);
+    QVERIFY(separate.ok());
+    QVERIFY(!separate->decel.derived && separate->decel.probes > 0);
+    QCOMPARE(separate->accel.limit, mirrored->accel.limit);
+    QVERIFY2(std::abs(separate->decel.limit - mirrored->decel.limit) <=
+                 search_.decel_precision_mps2 + 1e-9,
+             describe(separate->decel));
+    QCOMPARE(separate->lateral.limit, mirrored->lateral.limit);
+
+    auto off = settle(test::pallet({test::carton(0.2, 0, 0.15), test::carton(0.2, 0, 0.35)}),
+                      {1.0, 0.3, 0.4});
+    auto env = search_envelope(*off->sim, off->rest, off->bounds, line_, search_);
+    QVERIFY(env.ok());
+    QVERIFY(!env->decel.derived && env->decel.probes > 0);
+  }
+};
+
+QTEST_APPLESS_MAIN(EnvelopeTest)
+#include "envelope_test.moc"

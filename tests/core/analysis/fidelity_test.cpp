@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/fidelity.hpp"
+
+#include <QtTest>
+#include <cmath>
+
+#include "core/analysis/analyzer.hpp"
+#include "core/inputs/scenario.hpp"
+#include "tests/core/test_friction.hpp"
+#include "tests/core/test_pallets.hpp"
+
+using namespace pb;
+
+namespace {
+
+using test::carton;
+using test::pallet;
+
+constexpr test::ConstantMu kMu{0.5, 0.45, 0.4};
+
+const FrictionModel& friction_model() {
+  static const FrictionModel model = test::constant_friction(kMu);
+  return model;
+}
+
+ContactFriction friction_of(const PalletConfig& config) {
+  return *friction_model().for_pallet(config).value;
+}
+
+// Four 10 kg cartons side by side, two layers: a small column-stacked load.
+PalletConfig small_load(WrapType wrap) {
+  std::vector<Item> items;
+  for (double z : {0.15, 0.35}) {
+    for (double x : {-0.25, 0.25}) items.push_back(carton(x, 0.0, z));
+  }
+  return pallet(items, wrap);
+}
+
+// A one-carton-wide tower, five high.
+PalletConfig tower(WrapType wrap) {
+  std::vector<Item> items;
+  for (int k = 0; k < 5; ++k) items.push_back(carton(0.0, 0.0, 0.15 + 0.2 * k));
+  return pallet(items, wrap);
+}
+
+}  // namespace
+
+static_assert(to_string(Fidelity::automatic) == "auto");
+static_assert(enum_from_string<Fidelity>("closed_form") == Fidelity::closed_form);
+
+class FidelityTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void namesRoundTrip() {
+    const auto& names = EnumTable<Fidelity>::names;
+    QCOMPARE(names.size(), std::size_t{5});
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      QCOMPARE(static_cast<std::size_t>(names[i].value), i);
+      QCOMPARE(enum_from_string<Fidelity>(names[i].name), std::optional(names[i].value));
+    }
+    QCOMPARE(to_string(Fidelity::reduced), std::string_view("reduced"));
+    QCOMPARE(to_string(Fidelity::full), std::string_view("full"));
+    QVERIFY(!enum_from_string<Fidelity>("automatic"));
+    QCOMPARE(enum_choices<Fidelity>(),
+             std::string("auto, closed_form, reduced, clustered or full"));
+  }
+
+  // Model no more than the scene needs: a banded load is one rigid body; an unwrapped tower's
+  // cartons are free; a wrap too soft for heavy cartons keeps them free; a request is obeyed.
+  void automaticChoice() {
+    const DetectorThresholds t;
+    const PalletConfig banded = small_load(WrapType::banded);
+    const FidelityChoice b = choose_fidelity(banded, friction_of(banded), 5.0, t);
+    QCOMPARE(b.level, Fidelity::reduced);
+    QVERIFY2(b.why.find("banded wrap holds every item") != std::string::npos, b.why.c_str());
+    const PalletConfig loose = tower(WrapType::none);
+    QCOMPARE(choose_fidelity(loose, friction_of(loose), 5.0, t).level, Fidelity::full);
+    QCOMPARE(choose_fidelity(loose, friction_of(loose), 5.0, t, Fidelity::reduced).level,
+             Fidelity::full);  // nothing to merge
+    // Shrink (3,000 N/m), 60 kg cartons, the pallet slipping at 0.5 g and the cartons at 0.4 g:
+    // 60 (4.9 - 3.9) / 3000 = 20 mm, far above a quarter of the 2 cm load-shift threshold.
+    PalletConfig heavy = small_load(WrapType::shrink);
+    for (auto& item : heavy.items) item.weight_kg = 60.0;
+    const FidelityChoice h = choose_fidelity(heavy, friction_of(heavy), 5.0, t);
+    QCOMPARE(h.level, Fidelity::full);
+    QVERIFY2(h.why.find("lets an item move") != std::string::npos, h.why.c_str());
+    QCOMPARE(choose_fidelity(heavy, friction_of(heavy), 5.0, t, Fidelity::reduced).level,
+             Fidelity::reduced);
+    QCOMPARE(choose_fidelity(banded, friction_of(banded), 5.0, t, Fidelity::full).level,
+             Fidelity::full);
+    // The curated wrapped scenarios are reduced; the unwrapped ones are full.
+    for (const auto& sc : all_scenarios()) {
+      auto f = FrictionModel::builtin().for_pallet(sc.pallet);
+      QVERIFY(f.ok());
+      const Fidelity level = choose_fidelity(sc.pallet, *f.value, 5.0, t).level;
+      QCOMPARE(level, sc.pallet.wrap == WrapType::none ? Fidelity::full : Fidelity::reduced);
+    }
+  }
+
+  // The reduced model agrees with the full one within one search step on every axis, with the
+  // same governing modes, and reports its level.
+  void reducedAgreesWithFullOnAWrappedLoad() {
+    const PalletConfig config = small_load(WrapType::stretch);
+    AnalyzerOptions o;
+    o.fidelity = Fidelity::full;
+    Analyzer full(o, friction_model());
+    o.fidelity = Fidelity::automatic;
+    Analyzer reduced(o, friction_model());
+    auto a = full.envelope(config);
+    auto b = reduced.envelope(config);
+    QVERIFY(a.ok() && b.ok());
+    QCOMPARE(a->result.fidelity, std::string("full"));
+    QCOMPARE(b->result.fidelity, std::string("reduced"));
+    QVERIFY((*reduced.prepare(config).value)->scene->layout.merged);
+    // Each level steps at its own timestep: the reduced model at scene.timestep_s, the full one
+    // at full_model_timestep_s (forced or chosen).
+    QCOMPARE((*reduced.prepare(config).value)->scene->options.timestep_s, 0.002);
+    QCOMPARE((*full.prepare(config).value)->scene->options.timestep_s, 0.001);
+    Analyzer automatic_full(AnalyzerOptions{}, friction_model());
+    QCOMPARE((*automatic_full.prepare(tower(WrapType::none)).value)->scene->options.timestep_s,
+             0.001);
+    const SearchConfig s;
+    auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
+      QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,
+               qPrintable(QString("full %1, reduced %2").arg(x.limit).arg(y.limit)));
+      QCOMPARE(x.mode, y.mode);
+    };
+    check(a->accel, b->accel, s.accel_precision_mps2);
+    check(a->decel, b->decel, s.decel_precision_mps2);
+    check(a->lateral, b->lateral, s.lateral_precision_g);
+    check(a->speed, b->speed, s.speed_precision_mps);
+    QCOMPARE(a->result.verdict, b->result.verdict);
+  }
+
+  // The closed-form rung: no simulation, the quasi-static bounds as the limits. (How far they are
+  // from the simulated limits is the study's question, not a property to assert: on this tower the
+  // onset lies below the reference's start-up and stop limits, on the top-heavy and asymmetric
+  // scenarios 1.5-2.3 steps away; core/README.md.)
+  void closedFormIsTheBoundsWithoutSimulation() {
+    const PalletConfig config = tower(WrapType::none);
+    AnalyzerOptions o;
+    o.fidelity = Fidelity::closed_form;
+    Analyzer cf(o, friction_model());
+    auto a = cf.envelope(config);
+    QVERIFY(a.ok());
+    QCOMPARE(a->result.fidelity, std::string("closed_form"));
+    QCOMPARE(a->result.sims_run, 0);
+    QVERIFY(a->probes.empty());
+    const QuasiStaticBounds bounds = quasi_static_bounds(config, friction_of(config));
+    QCOMPARE(a->accel.closed_form, bounds.weakest_along().accel_mps2);
+    QCOMPARE(a->accel.mode, bounds.weakest_along().mode);
+    QCOMPARE(a->lateral.closed_form, bounds.weakest_across().accel_mps2 / kGravity);
+  }
+};
+
+QTEST_APPLESS_MAIN(FidelityTest)
+#include "fidelity_test.moc"

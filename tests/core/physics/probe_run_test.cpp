@@ -1,0 +1,277 @@
+// SPDX-License-Identifier: MIT
+#include "core/physics/probe_run.hpp"
+
+#include <QtTest>
+#include <memory>
+#include <optional>
+
+#include "core/analysis/analyzer.hpp"
+#include "core/analysis/envelope.hpp"
+#include "core/inputs/scenario.hpp"
+#include "tests/core/test_friction.hpp"
+#include "tests/core/test_pallets.hpp"
+
+using namespace pb;
+
+namespace {
+
+struct Rig {
+  std::unique_ptr<Scene> scene;
+  std::optional<Simulator> sim;
+  RestState rest;
+};
+
+std::unique_ptr<Rig> rig(const SceneOptions& options = {}) {
+  auto scene = build_scene(test::pallet({test::carton(0.0, 0.0, 0.15)}), options,
+                           test::constant_friction({1.0, 0.3, 0.4}));
+  if (!scene) qFatal("scene");
+  auto out = std::make_unique<Rig>();
+  out->scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto sim = Simulator::create(*out->scene);
+  if (!sim) qFatal("simulator");
+  out->sim.emplace(std::move(*sim.value));
+  auto rest = out->sim->settle();
+  if (!rest) qFatal("settle");
+  out->rest = std::move(*rest.value);
+  return out;
+}
+
+// Steps a ProbeRun by hand on its own mjData, as a batch worker does.
+SimResult by_hand(const Rig& r, const ConveyorProfile& profile, const SimOptions& o) {
+  const mjModel& m = *r.scene->model;
+  auto data = make_data(&m);
+  if (!data) qFatal("data");
+  mjData* d = data.value->get();
+  ProbeRun run(*r.scene, r.rest, profile, o);
+  load_rest_state(m, r.scene->layout, r.rest, run.initial_speed(), *d);
+  while (!run.done()) {
+    run.before_step(*d);
+    mj_step(&m, d);
+    if (!run.after_step(m, *d)) break;
+  }
+  return run.take_result();
+}
+
+SimOptions skipping(bool on) {
+  SimOptions o;
+  o.record_trace = false;  // as a search runs its probes
+  o.skip_comoving = on;
+  return o;
+}
+
+// Skipping may move a failure by the dwell it waits plus one step.
+void compare_skip(const SimResult& full, const SimResult& skip, double dt, const SimOptions& o,
+                  const std::string& what) {
+  const std::string msg = what + ": outcome " + std::string(to_string(full.outcome)) + " vs " +
+                          std::string(to_string(skip.outcome));
+  QVERIFY2(skip.outcome == full.outcome, msg.c_str());
+  QCOMPARE(bool(skip.failure), bool(full.failure));
+  QCOMPARE(full.steps_skipped, 0);
+  if (full.failure) {
+    QVERIFY2(skip.failure->mode == full.failure->mode, what.c_str());
+    const double dt_fail = std::abs(skip.failure->time_s - full.failure->time_s);
+    QVERIFY2(dt_fail <= o.skip_dwell_s + dt + 1e-9,
+             (what + ": failure time moved by " + std::to_string(dt_fail) + " s").c_str());
+  }
+}
+
+}  // namespace
+
+class ProbeRunTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  // The state machine stepped by hand gives exactly the Simulator's run: failing, safe with an
+  // early stop, and starting at speed (an e-stop).
+  void byHandEqualsSimulator_data() {
+    QTest::addColumn<double>("accel");
+    QTest::addColumn<bool>("estop");
+    QTest::newRow("slides") << 4.5 << false;
+    QTest::newRow("safe, stops early") << 1.0 << false;
+    QTest::newRow("e-stop from speed") << 4.0 << true;
+  }
+  void byHandEqualsSimulator() {
+    QFETCH(double, accel);
+    QFETCH(bool, estop);
+    auto r = rig();
+    const ConveyorProfile profile =
+        estop ? decel_probe_profile(accel, 1.5, {}) : accel_probe_profile(accel, {});
+    SimOptions o;
+    const SimResult serial = r->sim->run(r->rest, profile, o);
+    const SimResult hand = by_hand(*r, profile, o);
+    QCOMPARE(hand.outcome, serial.outcome);
+    QCOMPARE(hand.steps, serial.steps);
+    QCOMPARE(hand.stopped_early, serial.stopped_early);
+    QCOMPARE(bool(hand.failure), bool(serial.failure));
+    if (serial.failure) QCOMPARE(hand.failure->time_s, serial.failure->time_s);
+    QCOMPARE(hand.trace.size(), serial.trace.size());
+    QCOMPARE(hand.trace.pallet(hand.trace.size() - 1).pos,
+             serial.trace.pallet(serial.trace.size() - 1).pos);
+  }
+
+  // Event-driven skipping on every curated scenario (its prepared model: reduced where the
+  // automatic choice picks it): a couple of probes per axis give the same outcome and mode as full
+  // stepping, the failure time within the dwell plus one step. On the costly full 24-item scenario
+  // only the cheaper probe of each axis runs.
+  void skipMatchesFullSteppingOnCuratedScenarios() {
+    const SearchConfig search;
+    const LineDescription line;
+    int skipped = 0, probes = 0;
+    for (const Scenario& scenario : all_scenarios()) {
+      Analyzer analyzer;
+      auto prepared = analyzer.prepare(scenario.pallet);
+      QVERIFY2(prepared.ok(), scenario.slug.c_str());
+      PreparedPallet& p = **prepared.value;
+      const double dt = p.scene->model->opt.timestep;
+      std::vector<std::pair<std::string, ConveyorProfile>> profiles = {
+          {"accel 4.0", accel_probe_profile(4.0, search)},
+          {"decel 4.5", decel_probe_profile(4.5, 1.5, search)},
+          {"lateral 0.4 g", lateral_probe_profile(0.4, line, search)},
+          {"stop 2.0", stop_probe_profile(2.0, line, search)}};
+      const bool costly = p.fidelity.level == Fidelity::full && scenario.pallet.items.size() > 12;
+      if (!costly) {
+        profiles.push_back({"accel 1.0", accel_probe_profile(1.0, search)});
+        profiles.push_back({"decel 1.0", decel_probe_profile(1.0, 1.5, search)});
+        profiles.push_back({"lateral 0.05 g", lateral_probe_profile(0.05, line, search)});
+        profiles.push_back({"stop 0.5", stop_probe_profile(0.5, line, search)});
+      }
+      for (const auto& [name, profile] : profiles) {
+        const SimResult full = p.simulator->run(p.rest, profile, skipping(false));
+        const SimResult skip = p.simulator->run(p.rest, profile, skipping(true));
+        compare_skip(full, skip, dt, skipping(true), scenario.slug + " " + name);
+        skipped += skip.steps_skipped;
+        ++probes;
+        qInfo("%s %s: %s, %d steps, %d skipped (full stepping: %d steps)", scenario.slug.c_str(),
+              name.c_str(), std::string(to_string(skip.outcome)).c_str(), skip.steps,
+              skip.steps_skipped, full.steps);
+      }
+    }
+    QVERIFY(probes >= 40);
+    QVERIFY(skipped > 0);
+  }
+
+  // The envelope limits and their modes are identical with and without skipping.
+  void envelopeUnchangedBySkipping_data() {
+    QTest::addColumn<QString>("slug");
+    QTest::newRow("stable-dairy-slab") << "stable-dairy-slab";
+    QTest::newRow("random-scanner-feed") << "random-scanner-feed";
+  }
+  void envelopeUnchangedBySkipping() {
+    QFETCH(QString, slug);
+    auto scenario = load_scenario(slug.toStdString());
+    QVERIFY(scenario.ok());
+    Analyzer analyzer;
+    auto prepared = analyzer.prepare(scenario->pallet);
+    QVERIFY(prepared.ok());
+    PreparedPallet& p = **prepared.value;
+    auto full = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(false));
+    auto skip = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(true));
+    QVERIFY(full.ok() && skip.ok());
+    for (auto axis : {&Envelope::accel, &Envelope::decel, &Envelope::lateral, &Envelope::speed}) {
+      QCOMPARE(((*skip.value).*axis).limit, ((*full.value).*axis).limit);
+      QCOMPARE(((*skip.value).*axis).mode, ((*full.value).*axis).mode);
+    }
+  }
+
+  // The jump: an e-stop probe from speed skips its steady lead-in only after the dwell and stops
+  // one step short of the breakpoint; the trace holds the jump's endpoint, the belt and the pallet
+  // moved by the constant-speed travel v t (closed form) and the load did not move on the pallet.
+  // The EUMOS rise (quadratic velocity) is never skipped.
+  void jumpIsTheBeltsRigidMotion() {
+    auto r = rig();
+    ConveyorProfile profile = decel_probe_profile(1.0, 1.5, {});
+    profile.decel_start_s = 0.5;
+    SimOptions o;
+    const SimResult s = r->sim->run(r->rest, profile, o);
+    const double dt = r->scene->model->opt.timestep;
+    QCOMPARE(s.outcome, Outcome::safe);
+    QVERIFY(s.steps_skipped > 0);
+    QVERIFY(std::abs(s.skipped_s - s.steps_skipped * dt) < 1e-9);
+    const std::vector<double> breakpoints = profile.breakpoints();
+    int gaps = 0, lead_in_gaps = 0;
+    for (std::size_t i = 1; i < s.trace.size(); ++i) {
+      const double t0 = s.trace.time(i - 1), t1 = s.trace.time(i);
+      if (t1 - t0 < 1.5 * dt) continue;
+      ++gaps;
+      // Within one phase, after the dwell, and one step short of the next breakpoint.
+      double before = 0.0, after = profile.duration_s;
+      for (double b : breakpoints) {
+        if (b <= t0) before = b;
+        if (b > t0 && after == profile.duration_s) after = b;
+      }
+      QVERIFY2(t0 >= before + o.skip_dwell_s - 1e-9, "jumped before the dwell");
+      QVERIFY2(t1 <= after - dt + 1e-9, "jumped over the breakpoint's step");
+      // The belt moved as stepping moves it (dt v(t_j) per step), within the discretisation of
+      // the closed form (the integral of v); the pallet moved with it, orientation unchanged.
+      const int n = static_cast<int>(std::lround((t1 - t0) / dt));
+      double stepped = 0.0, exact = 0.0;
+      for (int j = 1; j <= n; ++j) {
+        stepped += dt * profile.velocity_at(t0 + j * dt);
+        exact += dt * profile.velocity_at(t0 + (j - 0.5) * dt);
+      }
+      const double belt_travel = s.trace.belt(i).x - s.trace.belt(i - 1).x;
+      QVERIFY(std::abs(belt_travel - stepped) < 1e-9);
+      QVERIFY(std::abs(belt_travel - exact) <= 0.5 * profile.decel_mps2 * dt * (t1 - t0) + 1e-9);
+      const double pallet_travel = s.trace.pallet(i).pos[0] - s.trace.pallet(i - 1).pos[0];
+      QVERIFY(std::abs(pallet_travel - belt_travel) < 1e-9);
+      QCOMPARE(s.trace.pallet(i).quat, s.trace.pallet(i - 1).quat);
+      if (t1 < profile.decel_start_s) {
+        ++lead_in_gaps;
+        QVERIFY(std::abs(belt_travel - profile.target_speed_mps * (t1 - t0)) < 1e-9);
+      }
+    }
+    QVERIFY(gaps >= 1);
+    QCOMPARE(lead_in_gaps, 1);
+    // The run after the jump: the pallet still rides with the belt (slip well below threshold).
+    const std::size_t last = s.trace.size() - 1;
+    QVERIFY(std::abs(s.trace.belt(last).x -
+                     (s.trace.pallet(last).pos[0] - s.trace.pallet(0).pos[0])) < 0.05);
+
+    ConveyorProfile eumos;
+    eumos.shape = ProfileShape::eumos;
+    eumos.eumos_g = 0.1;
+    eumos.duration_s = 1.0;
+    const SimResult e = r->sim->run(r->rest, eumos, o);
+    for (std::size_t i = 1; i < e.trace.size(); ++i) {
+      if (e.trace.time(i) - e.trace.time(i - 1) > 1.5 * dt) QVERIFY(e.trace.time(i - 1) >= 0.05);
+    }
+  }
+
+  void beltWatchNeedsThreeGrowingSteps() {
+    BeltWatch w;
+    QVERIFY(!w.check(0.06));
+    QVERIFY(!w.check(0.07));
+    QVERIFY(!w.check(0.01));  // shrank: the count restarts
+    QVERIFY(!w.check(0.06));
+    QVERIFY(!w.check(0.08));
+    QVERIFY(w.check(0.10).has_value());
+    BeltWatch small;
+    for (double e : {0.01, 0.02, 0.03, 0.04}) QVERIFY(!small.check(e));  // below 5 cm/s
+  }
+
+  void divergingBeltIsUnstableNotAFailure() {
+    SceneOptions options;
+    options.belt_kv_ratio = 4.0;
+    auto r = rig(options);
+    const SimResult s = by_hand(*r, accel_probe_profile(1.0, {}), {});
+    QCOMPARE(s.outcome, Outcome::unstable);
+    QVERIFY(!s.failure);
+    QVERIFY2(s.reason.find("belt") != std::string::npos, s.reason.c_str());
+  }
+
+  void relativeSpeedIsZeroAtRest() {
+    auto r = rig();
+    const mjModel& m = *r->scene->model;
+    auto data = make_data(&m);
+    QVERIFY(data);
+    mjData* d = data.value->get();
+    load_rest_state(m, r->scene->layout, r->rest, 1.5, *d);
+    double spin = -1.0;
+    QVERIFY(max_relative_speed(r->scene->layout, *d, 1.5, 0.0, &spin) < 0.01);
+    QVERIFY(spin >= 0.0 && spin < 0.05);
+    QVERIFY(std::abs(max_relative_speed(r->scene->layout, *d, 0.0, 0.0, nullptr) - 1.5) < 0.01);
+  }
+};
+
+QTEST_APPLESS_MAIN(ProbeRunTest)
+#include "probe_run_test.moc"
