@@ -82,7 +82,13 @@ ScreenshotRunner::ScreenshotRunner(MainWindow* window, ConsoleRequest request, Q
     : QObject(parent), _window(window), _request(std::move(request)) {}
 
 void ScreenshotRunner::start() {
-  _window->resize(_request.size);
+  // The replay view alone is drawn at the requested size (the window grows around it); otherwise
+  // the window is.
+  if (_request.replayOnly && _window->replayPanel()->view() != nullptr) {
+    _window->replayPanel()->view()->setFixedSize(_request.size);
+  } else {
+    _window->resize(_request.size);
+  }
   _window->show();
   if (!_window->loadScenario(_request.slug)) {
     emit done(2, QStringLiteral("unknown scenario '%1'").arg(_request.slug));
@@ -135,6 +141,17 @@ void ScreenshotRunner::capture(bool ok, const QString& message) {
     ReplayPanel* shown = _window->replayPanel();
     const QImage image =
         _request.replayOnly ? shown->view()->grabFramebuffer() : _window->grab().toImage();
+    if (!image.isNull() && image.deviceIndependentSize().toSize() != _request.size) {
+      emit done(1, QStringLiteral("--size: the %1 could only be drawn at %2x%3, not %4x%5; is the "
+                                  "screen smaller? (under xvfb-run, pass -s \"-screen 0 WxHx24\")")
+                       .arg(_request.replayOnly ? QStringLiteral("replay view")
+                                                : QStringLiteral("console"))
+                       .arg(image.width())
+                       .arg(image.height())
+                       .arg(_request.size.width())
+                       .arg(_request.size.height()));
+      return;
+    }
     if (image.isNull() || !image.save(_request.screenshotPath, "PNG")) {
       emit done(1, QStringLiteral("cannot write the PNG %1").arg(_request.screenshotPath));
       return;

@@ -8,6 +8,7 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QScrollArea>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
@@ -37,7 +38,13 @@ QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name
                   Qt::DockWidgetArea area) {
   auto* d = new QDockWidget(title, window);
   d->setObjectName(name);
-  d->setWidget(content);
+  // In a scroll area, so that a panel's own minimum size never forces the window wider or taller
+  // than the screen (or a screenshot's --size): on a small screen the panel scrolls instead.
+  auto* scroll = new QScrollArea(d);
+  scroll->setWidget(content);
+  scroll->setWidgetResizable(true);
+  scroll->setFrameShape(QFrame::NoFrame);
+  d->setWidget(scroll);
   d->setFeatures(QDockWidget::DockWidgetMovable | QDockWidget::DockWidgetFloatable |
                  QDockWidget::DockWidgetClosable);
   window->addDockWidget(area, d);
@@ -90,7 +97,12 @@ MainWindow::MainWindow(QWidget* parent)
                                    Qt::RightDockWidgetArea);
   tabifyDockWidget(resultsDock, frictionDock);
   resultsDock->raise();
-  resizeDocks({leftDock, dialDock}, {380, 420}, Qt::Horizontal);
+  // As wide as their panels ask where the window allows; narrower windows scroll them.
+  resizeDocks(
+      {leftDock, dialDock},
+      {std::max(380, left->minimumSizeHint().width()),
+       std::max({420, _dials->minimumSizeHint().width(), _results->minimumSizeHint().width()})},
+      Qt::Horizontal);
 
   _status = new QLabel(tr("Ready"), this);
   _status->setObjectName(QStringLiteral("statusText"));

@@ -74,9 +74,19 @@ int runCliInstead(int argc, char** argv) {
   return 1;
 }
 
+bool wantsHelp(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h" || a == "-?" || a == "--help-all") return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The help needs no display: Qt's offscreen platform is enough to print it.
+  if (!hasDisplay() && wantsHelp(argc, argv)) qputenv("QT_QPA_PLATFORM", "offscreen");
   if (!hasDisplay()) {
     if (wantsScreenshot(argc, argv)) {
       std::fprintf(stderr,

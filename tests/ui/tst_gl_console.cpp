@@ -162,6 +162,36 @@ class TestGlConsole : public QObject {
     QVERIFY(red >= 30);
   }
 
+  // --size is honoured exactly, for the window (its panels scroll when they need more) and for the
+  // replay view alone; each screenshot is kept as an artifact.
+  void screenshotsHaveTheSizeAsked_data() {
+    QTest::addColumn<QString>("size");
+    QTest::addColumn<QString>("view");
+    for (const char* size : {"1024x768", "1280x800", "1920x1080"}) {
+      for (const char* view : {"window", "replay"}) {
+        QTest::addRow("%s %s", size, view)
+            << QString::fromLatin1(size) << QString::fromLatin1(view);
+      }
+    }
+  }
+  void screenshotsHaveTheSizeAsked() {
+    QFETCH(QString, size);
+    QFETCH(QString, view);
+    pb::ui::ConsoleRequest request;
+    const QString out = artifact(QStringLiteral("screenshot_%1_%2.png").arg(view, size));
+    QCOMPARE(pb::ui::ConsoleRequest::parse(QStringLiteral("tall-unwrapped-tower"), {}, {}, out,
+                                           QStringLiteral("end"), size, view, request),
+             QString());
+    MainWindow window;
+    pb::ui::ScreenshotRunner runner(&window, request);
+    QSignalSpy done(&runner, &pb::ui::ScreenshotRunner::done);
+    runner.start();
+    QVERIFY(done.wait(60000));
+    QCOMPARE(done.at(0).at(0).toInt(), 0);
+    const QImage image(out);
+    QCOMPARE(image.size(), request.size);
+  }
+
   void badArgumentsNameTheOption() {
     pb::ui::ConsoleRequest r;
     const auto parse = [&](const QString& slug, const QString& speed, const QString& at,
