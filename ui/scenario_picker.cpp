@@ -33,15 +33,27 @@ ScenarioPicker::ScenarioPicker(PalletDocument* document, QWidget* parent)
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addLayout(row);
   layout->addWidget(_description);
-  const auto describe = [this](int index) {
-    if (index < 0 || index >= count()) return _description->clear();
-    const pb::Scenario& s = _scenarios[static_cast<std::size_t>(index)];
-    _description->setText(QString::fromStdString(s.description) + tr(" Expected: ") +
-                          QString::fromStdString(s.expected_failure) + QStringLiteral("."));
-  };
-  connect(_combo, &QComboBox::currentIndexChanged, this, describe);
+  connect(_combo, &QComboBox::currentIndexChanged, this, &ScenarioPicker::describe);
+  connect(_document, &PalletDocument::changed, this, &ScenarioPicker::describe);
   connect(_load, &QPushButton::clicked, this, &ScenarioPicker::loadCurrent);
-  describe(_combo->currentIndex());
+  describe();
+}
+
+QString ScenarioPicker::description() const {
+  return _description->text();
+}
+
+void ScenarioPicker::describe() {
+  const int index = _combo->currentIndex();
+  if (index < 0 || index >= count()) return _description->clear();
+  const pb::Scenario& s = _scenarios[static_cast<std::size_t>(index)];
+  const QString text = QString::fromStdString(s.description) + tr(" Expected: ") +
+                       QString::fromStdString(s.expected_failure) + QStringLiteral(".");
+  // The words are the selected scenario's: once the pallet being edited is something else (edited,
+  // new, opened from a file), they say that they describe what Load would bring.
+  _description->setText(_document->pallet() == s.pallet
+                            ? text
+                            : tr("Not the pallet being edited; Load brings it: ") + text);
 }
 
 int ScenarioPicker::currentIndex() const {

@@ -33,6 +33,9 @@ class ScenarioPicker : public QWidget {
   /// Asked before a scenario replaces the document; false keeps the document (e.g. the user
   /// cancelled saving unsaved changes). Unset: always replace.
   void setMayReplace(std::function<bool()> mayReplace) { _mayReplace = std::move(mayReplace); }
+  /// The words under the box: the selected scenario's description and expected failure, marked as
+  /// not the pallet being edited once it is not.
+  QString description() const;
 
  public slots:
   /// Opens the scenario with this slug as the document (false if unknown or not replaced).
@@ -44,6 +47,8 @@ class ScenarioPicker : public QWidget {
   void scenarioLoaded(const pb::Scenario& scenario);
 
  private:
+  void describe();
+
   PalletDocument* _document;
   std::function<bool()> _mayReplace;
   std::vector<pb::Scenario> _scenarios;

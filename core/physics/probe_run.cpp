@@ -97,7 +97,6 @@ void load_rest_state(const mjModel& m, const SceneLayout& l, const RestState& re
 ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProfile& profile,
                    const SimOptions& options)
     : scene_(&scene),
-      rest_(&rest),
       profile_(profile),
       o_(options),
       detector_(options.thresholds, rest.pallet, rest.items) {

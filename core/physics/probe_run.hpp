@@ -91,7 +91,6 @@ class ProbeRun {
   void shift(Pose& p) const;
 
   const Scene* scene_;
-  const RestState* rest_;
   ConveyorProfile profile_;
   SimOptions o_;
   SimResult r_;

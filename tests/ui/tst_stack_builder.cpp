@@ -337,6 +337,25 @@ class TestStackBuilder : public QObject {
     QCOMPARE(loaded.count(), 1);
   }
 
+  // The words under the box describe the pallet being edited only while it is the scenario's.
+  void scenarioWordsNeverDescribeAnotherPallet() {
+    PalletDocument doc;
+    pb::ui::ScenarioPicker picker(&doc);
+    const QString marked = QStringLiteral("Not the pallet being edited");
+    QVERIFY(picker.description().startsWith(marked));  // a new, empty document
+    QVERIFY(picker.loadSlug(QStringLiteral("tall-unwrapped-tower")));
+    QVERIFY(!picker.description().startsWith(marked));
+    QVERIFY(picker.description().contains(QStringLiteral("Expected: top item slide")));
+    QVERIFY(doc.addStack({0.3, 0.0}, kSku, 1));  // edited
+    QVERIFY(picker.description().startsWith(marked));
+    doc.undoStack()->undo();  // the scenario's pallet again
+    QVERIFY(!picker.description().startsWith(marked));
+    picker.setCurrentIndex(0);  // another scenario selected, not loaded
+    QVERIFY(picker.description().startsWith(marked));
+    doc.newDocument();
+    QVERIFY(picker.description().startsWith(marked));
+  }
+
   // In a narrow dock the controls go under the deck; in a window beside it.
   void narrowPanelStacksVertically() {
     PalletDocument doc;
