@@ -93,7 +93,7 @@ Result<PalletInput> read_pallet(const std::string& arg) {
 }
 
 void print_json(const Json& json) {
-  std::cout << json.dump(2) << "\n";
+  std::cout << json.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
 }
 
 void print_diagnostics(const Diagnostics& diagnostics) {

@@ -149,7 +149,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
       }
     }
     nlohmann::json body = {{"detail", detail}, {"errors", nlohmann::json::array()}};
-    res.set_content(body.dump(), "application/json");
+    res.set_content(body.dump(), "application/json");  // ASCII only
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     res.status = 500;

@@ -32,7 +32,7 @@ namespace {
 Response json_response(int status, const Json& body) {
   Response r;
   r.status = status;
-  r.body = body.dump();
+  r.body = body.dump(-1, ' ', false, Json::error_handler_t::replace);
   return r;
 }
 

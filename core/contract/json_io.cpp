@@ -473,6 +473,20 @@ Result<SafetyResult> safety_result_from_json(const Json& json, const std::string
   return read_document<SafetyResult>(json, pointer_prefix, "a safety result", SafetyResultFields{});
 }
 
+namespace {
+
+// nlohmann's messages quote what they last read, invalid UTF-8 included: a message must stay text
+// that can itself be written as JSON, so bytes outside ASCII are shown as '?'.
+std::string ascii(std::string_view message) {
+  std::string out(message);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) >= 0x80) c = '?';
+  }
+  return out;
+}
+
+}  // namespace
+
 Result<Json> parse_json(std::string_view text) {
   if (text.size() > kMaxDocumentBytes) {
     return Result<Json>::failure(
@@ -484,11 +498,11 @@ Result<Json> parse_json(std::string_view text) {
     return Result<Json>{Json::parse(text), {}};
   } catch (const Json::parse_error& e) {
     return Result<Json>::failure("", "the text is not valid JSON at byte " +
-                                         std::to_string(e.byte) + " (" + e.what() +
+                                         std::to_string(e.byte) + " (" + ascii(e.what()) +
                                          "); fix the syntax there");
   } catch (const Json::exception& e) {
     return Result<Json>::failure(
-        "", std::string("the text could not be read as JSON (") + e.what() + "); fix the document");
+        "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");
   }
 }
 

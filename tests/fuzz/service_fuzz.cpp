@@ -4,6 +4,7 @@
 // rest is the body. Service::handle must answer every request with a status and a JSON body (a
 // 500 is a finding: the service's own error), never crash, throw or hang: an analysis stops at a
 // short time limit (503), as a slow one does in production.
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -52,7 +53,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   request.path = target;
   if (eol != std::string_view::npos) request.body = std::string(text.substr(eol + 1));
   const pb::server::Response response = service().handle(request);
-  if (response.status >= 500 && response.status != 503) std::abort();
-  if (response.content_type == "application/json" && !pb::parse_json(response.body)) std::abort();
+  const bool failed = response.status >= 500 && response.status != 503;
+  if (failed || (response.content_type == "application/json" && !pb::parse_json(response.body))) {
+    std::fprintf(stderr, "%s %s -> %d %s\n", request.method.c_str(), request.path.c_str(),
+                 response.status, response.body.substr(0, 2000).c_str());
+    std::abort();
+  }
   return 0;
 }

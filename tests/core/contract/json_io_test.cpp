@@ -74,6 +74,17 @@ class JsonIoTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // Text that is not UTF-8 is refused, and the refusal itself can be written as JSON (the service
+  // answered 500 when it echoed the bytes back: a fuzzing finding, tests/fuzz/regressions/service).
+  void invalidUtf8IsRefusedInWordsThatAreText() {
+    const std::string text = "{\"f\xfc\xfcragility\": \"rigid\"}";
+    const auto json = parse_json(text);
+    QVERIFY(!json);
+    const std::string message = json.diagnostics.front().message;
+    QVERIFY2(message.find("not valid JSON") != std::string::npos, message.c_str());
+    QCOMPARE(Json(message).dump().empty(), false);  // throws on invalid UTF-8
+  }
+
   void palletRoundTripIsIdentity() {
     const Json json = pallet_to_json(sample());
     const auto read = pallet_from_json(json);
