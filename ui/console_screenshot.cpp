@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/inputs/scenario.hpp"
+#include "ui/dial_panel.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"
 #include "ui/replay_player.hpp"
@@ -42,6 +43,17 @@ QString ConsoleRequest::parse(const QString& slug, const QString& speed, const Q
   }
   if (!accel.isEmpty() && !number(accel, out.profile.accel_mps2)) {
     return QStringLiteral("--profile-accel: '%1' is not a number; give m/s^2, e.g. 2").arg(accel);
+  }
+  // The dials' range, as in the console.
+  if (out.profile.target_speed_mps > DialPanel::kMaxSpeedMps) {
+    return QStringLiteral("--profile-speed: %1 m/s is above the console's range (up to %2 m/s)")
+        .arg(out.profile.target_speed_mps)
+        .arg(DialPanel::kMaxSpeedMps);
+  }
+  if (out.profile.accel_mps2 > DialPanel::kMaxAccelMps2) {
+    return QStringLiteral("--profile-accel: %1 m/s^2 is above the console's range (up to %2 m/s^2)")
+        .arg(out.profile.accel_mps2)
+        .arg(DialPanel::kMaxAccelMps2);
   }
   for (const pb::Diagnostic& d : pb::errors_of(pb::validate_profile(out.profile))) {
     const QString option = d.pointer == "/target_speed_mps" ? QStringLiteral("--profile-speed")

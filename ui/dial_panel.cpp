@@ -101,8 +101,8 @@ void EnvelopeDial::paintEvent(QPaintEvent* event) {
 }
 
 DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
-  _speedDial = new EnvelopeDial(3.0, 100, this);  // 0-3 m/s in 0.01 m/s
-  _accelDial = new EnvelopeDial(6.0, 100, this);  // 0-6 m/s^2 in 0.01 m/s^2
+  _speedDial = new EnvelopeDial(kMaxSpeedMps, 100, this);   // in 0.01 m/s
+  _accelDial = new EnvelopeDial(kMaxAccelMps2, 100, this);  // in 0.01 m/s^2
   _speedDial->setAccessibleName(tr("Belt speed dial"));
   _accelDial->setAccessibleName(tr("Start-up acceleration dial"));
 
@@ -116,8 +116,8 @@ DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
     s->setKeyboardTracking(false);
     return s;
   };
-  _speedSpin = spin(3.0, QStringLiteral(" m/s"), tr("Belt speed"));
-  _accelSpin = spin(6.0, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
+  _speedSpin = spin(kMaxSpeedMps, QStringLiteral(" m/s"), tr("Belt speed"));
+  _accelSpin = spin(kMaxAccelMps2, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
 
   _dispatch = new QPushButton(tr("Dispatch"), this);
   _dispatch->setToolTip(
@@ -238,6 +238,16 @@ QString DialPanel::statusText() const {
   return _status->text();
 }
 
+QString DialPanel::limitsText() const {
+  return _limits->text();
+}
+
+void DialPanel::setAnalysedRange(double speed_max_mps, double accel_max_mps2) {
+  _analysedSpeed = speed_max_mps;
+  _analysedAccel = accel_max_mps2;
+  refresh();
+}
+
 void DialPanel::refresh() {
   const auto envelope = _game.envelope();
   if (!envelope) {
@@ -252,8 +262,23 @@ void DialPanel::refresh() {
   }
   _speedDial->setLimit(envelope->max_speed_mps);
   _accelDial->setLimit(envelope->max_accel_mps2);
-  _limits->setText(tr("Solver's limits: %1 m/s, %2 m/s² start-up")
-                       .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2)));
+  QString limits = tr("Solver's limits: %1 m/s, %2 m/s² start-up")
+                       .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2));
+  // The limits are searched up to the analysed range: above it they say nothing.
+  QStringList beyond;
+  if (speed() > _analysedSpeed + 1e-9) {
+    beyond
+        << tr("%1 m/s is above the %2 m/s analysed").arg(fmt(speed(), 2), fmt(_analysedSpeed, 1));
+  }
+  if (accel() > _analysedAccel + 1e-9) {
+    beyond
+        << tr("%1 m/s² is above the %2 m/s² analysed").arg(fmt(accel(), 2), fmt(_analysedAccel, 1));
+  }
+  if (!beyond.isEmpty()) {
+    limits += QStringLiteral(". ") + tr("Outside the analysed range: ") +
+              beyond.join(QStringLiteral(", ")) + tr("; only the dispatch's run speaks there.");
+  }
+  _limits->setText(limits);
   const DialScore score = *_game.score();
   // The dispatch's score, not the pallet's grade (the results panel grades the pallet against the
   // fixed table): how close the dialled motion came to the limits without crashing.

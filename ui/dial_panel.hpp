@@ -61,7 +61,16 @@ class DialPanel : public QWidget {
   Q_OBJECT
 
  public:
+  /// The dials' range: what a supervisor may dial (and `palletballet --profile-*` accept), wider
+  /// than the analysed range so that a failure can be shown beyond the limits.
+  static constexpr double kMaxSpeedMps = 3.0;
+  static constexpr double kMaxAccelMps2 = 6.0;
+
   explicit DialPanel(QWidget* parent = nullptr);
+
+  /// The top of the analysed range (SearchConfig: the limits are searched up to it). A dialled
+  /// point beyond it is said to be outside it when the limits are shown.
+  void setAnalysedRange(double speed_max_mps, double accel_max_mps2);
 
   /// The profile the dials describe: accel_hold to the dialled speed at the dialled acceleration,
   /// held 2 s after the ramp (the game's dispatch).
@@ -77,6 +86,8 @@ class DialPanel : public QWidget {
   QPushButton* dispatchButton() const { return _dispatch; }
   /// The score / status line ("Envelope hidden until the replay ends", "Dialed in: 91 %").
   QString statusText() const;
+  /// The solver's limits once revealed, and whether the dialled point is outside what was analysed.
+  QString limitsText() const;
 
  public slots:
   void setSpeed(double speed_mps);
@@ -106,9 +117,10 @@ class DialPanel : public QWidget {
   void refresh();
 
   DialGame _game;
-  bool _announced = false;  ///< scoreRevealed emitted for this round
-  QString _refused;         ///< why the last dispatch was refused; empty otherwise
-  double _speed = -1.0;     ///< last values announced by dialsChanged
+  double _analysedSpeed = 2.0, _analysedAccel = 5.0;  ///< SearchConfig's defaults until set
+  bool _announced = false;                            ///< scoreRevealed emitted for this round
+  QString _refused;      ///< why the last dispatch was refused; empty otherwise
+  double _speed = -1.0;  ///< last values announced by dialsChanged
   double _accel = -1.0;
   EnvelopeDial* _speedDial;
   EnvelopeDial* _accelDial;

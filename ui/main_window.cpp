@@ -87,6 +87,8 @@ MainWindow::MainWindow(QWidget* parent)
 
   // Right: the dials and what the analysis says; the friction chart under them.
   _dials = new DialPanel(this);
+  const pb::SearchConfig search = pb::AnalyzerOptions{}.search;  // the service's (its defaults)
+  _dials->setAnalysedRange(search.speed_max_mps, search.accel_max_mps2);
   _results = new ResultsPanel(this);
   _friction = new FrictionChart(this);
   QDockWidget* dialDock =

@@ -117,6 +117,28 @@ class TestDialPanel : public QObject {
     QVERIFY(!panel.speedDial()->limit());
   }
 
+  // A dialled point above the analysed range is said to be outside it once the limits show.
+  void aPointBeyondTheAnalysedRangeIsSaidToBe() {
+    DialPanel panel;
+    panel.setAnalysedRange(2.0, 5.0);
+    panel.setSpeed(2.5);
+    panel.setAccel(4.0);
+    panel.dispatch();
+    panel.setEnvelope(envelope());
+    panel.setOutcome(true, FailureMode::no_failure);
+    panel.replayFinished();
+    QVERIFY2(panel.limitsText().contains(QStringLiteral("2.50 m/s is above the 2.0 m/s analysed")),
+             qPrintable(panel.limitsText()));
+    QVERIFY(!panel.limitsText().contains(QStringLiteral("m/s² is above")));
+    panel.resetRound();
+    panel.setSpeed(1.0);
+    panel.dispatch();
+    panel.setEnvelope(envelope());
+    panel.setOutcome(true, FailureMode::no_failure);
+    panel.replayFinished();
+    QVERIFY(!panel.limitsText().contains(QStringLiteral("Outside")));
+  }
+
   void crashedRoundSaysSo() {
     DialPanel panel;
     panel.dispatch();

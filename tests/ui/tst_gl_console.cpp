@@ -208,6 +208,9 @@ class TestGlConsole : public QObject {
                 .startsWith(QStringLiteral("--profile-speed:")));
     QVERIFY(parse(ok, QStringLiteral("9"), failure, size, window)
                 .startsWith(QStringLiteral("--profile-speed:")));
+    // The console's range, as the dials have it (it was 5 m/s here, 3 on the dial).
+    QVERIFY(parse(ok, QStringLiteral("5"), failure, size, window)
+                .contains(QStringLiteral("above the console's range (up to 3 m/s)")));
     QVERIFY(
         parse(ok, {}, QStringLiteral("soon"), size, window).startsWith(QStringLiteral("--at:")));
     QVERIFY(parse(ok, {}, failure, QStringLiteral("10x10"), window)
