@@ -281,6 +281,8 @@ void MainWindow::buildMenus() {
   replay->addAction(_replay->playAction());
   replay->addAction(_replay->stepBackAction());
   replay->addAction(_replay->stepForwardAction());
+  replay->addAction(_replay->goToStartAction());
+  replay->addAction(_replay->goToEndAction());
   QMenu* view = menuBar()->addMenu(tr("&View"));
   for (QDockWidget* d : findChildren<QDockWidget*>()) view->addAction(d->toggleViewAction());
 }
@@ -300,8 +302,9 @@ void MainWindow::openReplay() {
 }
 
 void MainWindow::exportReplay() {
-  const QString path = QFileDialog::getSaveFileName(
-      this, tr("Export Replay"), QStringLiteral("replay.json"), tr("Replay JSON (*.json)"));
+  const QString path =
+      QFileDialog::getSaveFileName(this, tr("Export Replay"), QStringLiteral("replay.json"),
+                                   tr("Replay JSON (*.json);;Traces as CSV (*.csv)"));
   if (path.isEmpty()) return;
   const QString error = _replay->exportReplay(path);
   if (!error.isEmpty()) QMessageBox::warning(this, tr("Export Replay"), error);

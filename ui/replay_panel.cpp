@@ -10,6 +10,7 @@
 #include "ui/replay_controls.hpp"
 #include "ui/replay_player.hpp"
 #include "ui/replay_view.hpp"
+#include "ui/trace_plots.hpp"
 
 namespace pb::ui {
 
@@ -43,6 +44,18 @@ ReplayPanel::ReplayPanel(QWidget* parent) : QWidget(parent), _player(new ReplayP
   connect(_playAction, &QAction::triggered, _player, &ReplayPlayer::togglePlay);
   connect(_backAction, &QAction::triggered, _player, [this] { _player->step(-1); });
   connect(_forwardAction, &QAction::triggered, _player, [this] { _player->step(1); });
+  _startAction = new QAction(tr("Go to Start"), this);
+  _startAction->setShortcut(QKeySequence(Qt::Key_Home));
+  _endAction = new QAction(tr("Go to End"), this);
+  _endAction->setShortcut(QKeySequence(Qt::Key_End));
+  connect(_startAction, &QAction::triggered, _player, [this] {
+    _player->pause();
+    _player->setTime(_player->startTime());
+  });
+  connect(_endAction, &QAction::triggered, _player, [this] {
+    _player->pause();
+    _player->setTime(_player->endTime());
+  });
 
   connect(_player, &ReplayPlayer::timeChanged, this, [this](double t) {
     if (_view != nullptr) _view->setTime(t);
@@ -103,8 +116,11 @@ QString ReplayPanel::exportReplay(const QString& path) const {
   if (!file.open(QIODevice::WriteOnly)) {
     return tr("Cannot write %1: %2").arg(path, file.errorString());
   }
-  const std::string text = pb::replay_to_json(_replay).dump() + "\n";
-  file.write(text.data(), static_cast<qint64>(text.size()));
+  const QByteArray text =
+      path.endsWith(QStringLiteral(".csv"), Qt::CaseInsensitive)
+          ? TracePlots::csv(_replay)
+          : QByteArray::fromStdString(pb::replay_to_json(_replay).dump() + "\n");
+  file.write(text);
   if (!file.commit()) return tr("Cannot write %1: %2").arg(path, file.errorString());
   return {};
 }

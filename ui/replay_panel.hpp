@@ -41,7 +41,9 @@ class ReplayPanel : public QWidget {
   /// Reads a replay file (what `palletballet-cli solve --replay` and exportReplay write). Empty
   /// on success, else what is wrong, for a person (the current replay stays).
   QString openReplayFile(const QString& path);
-  /// Writes the replay as JSON (atomically). Empty on success, else why not.
+  /// Writes the replay atomically: a path ending in ".csv" gets its traces as CSV
+  /// (TracePlots::csv: what the trace plots show, one row per frame), any other the replay's JSON.
+  /// Empty on success, else why not.
   QString exportReplay(const QString& path) const;
   /// Writes the frame on screen as PNG. Empty on success, else why not.
   QString exportFramePng(const QString& path);
@@ -57,6 +59,8 @@ class ReplayPanel : public QWidget {
   QAction* playAction() const { return _playAction; }
   QAction* stepBackAction() const { return _backAction; }
   QAction* stepForwardAction() const { return _forwardAction; }
+  QAction* goToStartAction() const { return _startAction; }
+  QAction* goToEndAction() const { return _endAction; }
 
  signals:
   /// The replay cursor moved (playing, stepping or seeking).
@@ -77,6 +81,8 @@ class ReplayPanel : public QWidget {
   QAction* _playAction;
   QAction* _backAction;
   QAction* _forwardAction;
+  QAction* _startAction;
+  QAction* _endAction;
 };
 
 }  // namespace pb::ui

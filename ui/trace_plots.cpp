@@ -140,4 +140,19 @@ void TracePlots::setCursorTime(double t_s) {
   }
 }
 
+QByteArray TracePlots::csv(const pb::Replay& replay, const pb::DetectorThresholds& thresholds) {
+  const auto curves = measure(replay, thresholds);
+  QByteArray out =
+      "t_s,pallet_tilt_deg,item_displacement_cm,load_shift_cm,pallet_slip_cm,"
+      "pallet_tilt_deg_limit,item_displacement_cm_limit,load_shift_cm_limit,pallet_slip_cm_limit\n";
+  const auto number = [](double v) { return QByteArray::number(v, 'g', 10); };
+  for (std::size_t k = 0; k < curves[0].t.size(); ++k) {
+    out += number(curves[0].t[k]);
+    for (const Curve& c : curves) out += ',' + number(k < c.value.size() ? c.value[k] : 0.0);
+    for (const Curve& c : curves) out += ',' + number(c.threshold);
+    out += '\n';
+  }
+  return out;
+}
+
 }  // namespace pb::ui

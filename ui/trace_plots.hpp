@@ -10,6 +10,7 @@
 //   ReplayControls / timeline time changed               -> setCursorTime(t)
 #pragma once
 
+#include <QByteArray>
 #include <QWidget>
 #include <array>
 #include <vector>
@@ -40,6 +41,10 @@ class TracePlots : public QWidget {
   /// The curves of a replay (no widgets; testable alone).
   static std::array<Curve, kQuantities> measure(const pb::Replay& replay,
                                                 const pb::DetectorThresholds& thresholds);
+  /// The curves as CSV, one row per frame: t_s, the four quantities (pallet_tilt_deg,
+  /// item_displacement_cm, load_shift_cm, pallet_slip_cm), then each one's threshold (`_limit`).
+  static QByteArray csv(const pb::Replay& replay,
+                        const pb::DetectorThresholds& thresholds = pb::DetectorThresholds{});
 
   QChart* chart(Quantity q) const { return _charts[q]; }
   QLineSeries* series(Quantity q) const { return _series[q]; }

@@ -178,6 +178,22 @@ class TestMainWindow : public QObject {
     QVERIFY(pb::replay_to_json(other.replayPanel()->replay()) == written);  // kept
     QVERIFY(
         !other.replayPanel()->openReplayFile(dir.filePath(QStringLiteral("none.json"))).isEmpty());
+
+    // A .csv gets the traces (one row per frame, what the plots show), not JSON.
+    const QString csv = dir.filePath(QStringLiteral("trace.csv"));
+    QCOMPARE(replay->exportReplay(csv), QString());
+    QFile traces(csv);
+    QVERIFY(traces.open(QIODevice::ReadOnly));
+    const QList<QByteArray> lines = traces.readAll().split('\n');
+    QVERIFY(lines.front().startsWith("t_s,pallet_tilt_deg,item_displacement_cm"));
+    QCOMPARE(lines.size() - 2,
+             static_cast<int>(replay->replay().frames.size()));  // header, last \n
+
+    // Home and End go to the replay's start and end.
+    replay->goToEndAction()->trigger();
+    QCOMPARE(replay->player()->time(), replay->player()->endTime());
+    replay->goToStartAction()->trigger();
+    QCOMPARE(replay->player()->time(), replay->player()->startTime());
   }
 
   void menusOfferReplayFilesAndShortcuts() {
@@ -193,6 +209,8 @@ class TestMainWindow : public QObject {
     QCOMPARE(window.replayPanel()->playAction()->shortcut(), QKeySequence(Qt::Key_Space));
     QCOMPARE(window.replayPanel()->stepBackAction()->shortcut(), QKeySequence(Qt::Key_Left));
     QCOMPARE(window.replayPanel()->stepForwardAction()->shortcut(), QKeySequence(Qt::Key_Right));
+    QCOMPARE(window.replayPanel()->goToStartAction()->shortcut(), QKeySequence(Qt::Key_Home));
+    QCOMPARE(window.replayPanel()->goToEndAction()->shortcut(), QKeySequence(Qt::Key_End));
   }
 };
 

@@ -56,6 +56,24 @@ class TestTracePlots : public QObject {
     QCOMPARE(curves[TracePlots::LoadShift].threshold, 2.0);
   }
 
+  // The CSV export holds the same numbers as the curves, a row per frame.
+  void csvIsTheCurves() {
+    const pb::Replay replay = synthetic();
+    const auto curves = TracePlots::measure(replay, DetectorThresholds{});
+    const QList<QByteArray> lines = TracePlots::csv(replay).trimmed().split('\n');
+    QCOMPARE(lines.size(), static_cast<int>(curves[0].t.size()) + 1);
+    QCOMPARE(lines.front().split(',').size(), 9);
+    for (std::size_t k = 0; k < curves[0].t.size(); ++k) {
+      const QList<QByteArray> cells = lines[static_cast<int>(k) + 1].split(',');
+      QCOMPARE(cells.size(), 9);
+      QVERIFY(qAbs(cells[0].toDouble() - curves[0].t[k]) < 1e-9);
+      for (int q = 0; q < TracePlots::kQuantities; ++q) {
+        QVERIFY(qAbs(cells[q + 1].toDouble() - curves[std::size_t(q)].value[k]) < 1e-9);
+        QVERIFY(qAbs(cells[q + 5].toDouble() - curves[std::size_t(q)].threshold) < 1e-9);
+      }
+    }
+  }
+
   void seriesThresholdsAndCursor() {
     TracePlots plots;
     plots.setReplay(synthetic());
