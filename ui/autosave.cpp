@@ -33,8 +33,10 @@ Autosave::Autosave(PalletDocument* document, const QString& directory, int delay
   _lock = std::make_unique<QLockFile>(base + QStringLiteral(".lock"));
   _lock->setStaleLockTime(0);  // stale only when its process is gone, never by age
   if (!_lock->tryLock(0)) {
-    std::fprintf(stderr, "palletballet: cannot lock %s; unsaved work will not be recovered\n",
-                 qPrintable(_lock->error() == QLockFile::LockFailedError ? base : directory));
+    std::fprintf(stderr,
+                 "palletballet: cannot lock %s.lock: another console could take this one's "
+                 "recovery copy for lost work\n",
+                 qPrintable(base));
   }
   _timer.setSingleShot(true);
   _timer.setInterval(delayMs);

@@ -1,13 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "core/base/text.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 namespace pb {
 
 std::string fixed(double value, int decimals) {
   char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  // Beyond 1e15 a fixed-point number is a wall of digits (and 1e300's would not fit): scientific.
+  if (std::abs(value) >= 1e15) {
+    std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  }
   return buffer;
 }
 

@@ -6,7 +6,8 @@
 
 namespace pb {
 
-/// `decimals` digits after the point: fixed(0.4, 2) == "0.40".
+/// `decimals` digits after the point: fixed(0.4, 2) == "0.40"; from 1e15 on, six significant
+/// digits in scientific notation (fixed(1e300, 2) == "1e+300"), never a truncated number.
 std::string fixed(double value, int decimals);
 
 /// Up to 9 significant digits, no trailing zeros (printf "%.9g"): for quoting a user's number.

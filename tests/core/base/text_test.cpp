@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+// Numbers in messages: fixed decimals, and never a truncated wall of digits for a huge number.
+#include "core/base/text.hpp"
+
+#include <QtTest>
+#include <cmath>
+#include <limits>
+
+class TextTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void fixedDecimals() {
+    QCOMPARE(pb::fixed(0.4, 2), std::string("0.40"));
+    QCOMPARE(pb::fixed(-3.14159, 3), std::string("-3.142"));
+    QCOMPARE(pb::fixed(123456789012.5, 1), std::string("123456789012.5"));
+  }
+
+  // A hostile 1e300 read as a temperature was shown as 63 digits cut off mid-number.
+  void hugeNumbersAreScientific() {
+    QCOMPARE(pb::fixed(1e300, 2), std::string("1e+300"));
+    QCOMPARE(pb::fixed(-1e308, 2), std::string("-1e+308"));
+    QCOMPARE(pb::fixed(2.5e15, 1), std::string("2.5e+15"));
+    QCOMPARE(pb::fixed(std::numeric_limits<double>::infinity(), 2), std::string("inf"));
+    QCOMPARE(pb::fixed(std::nan(""), 2), std::string("nan"));
+  }
+};
+
+QTEST_APPLESS_MAIN(TextTest)
+#include "text_test.moc"
