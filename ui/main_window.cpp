@@ -248,6 +248,18 @@ void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze, bool
   _solveDone = false;
   _solveId = _service->solve(_document->pallet(), profile);
   _analyzeDone = !analyze;
+  if (analyze) {
+    // The closed-form estimate at once (a fraction of a millisecond), marked provisional until
+    // the analysis replaces it; set first, so that an answer from the cache always wins.
+    if (!_estimator) {
+      pb::AnalyzerOptions o;
+      o.fidelity = pb::Fidelity::closed_form;
+      _estimator = std::make_unique<pb::Analyzer>(o);
+    }
+    if (auto estimate = _estimator->analyze(_document->pallet())) {
+      _results->setProvisional(*estimate.value);
+    }
+  }
   _analyzeId = analyze ? _service->analyze(_document->pallet()) : 0;
   // The failure map comes last (the slowest); the dispatch does not wait for it.
   _mapId = map ? _service->failureMap(_document->pallet()) : 0;

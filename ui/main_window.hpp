@@ -5,6 +5,7 @@
 #pragma once
 
 #include <QMainWindow>
+#include <memory>
 #include <optional>
 
 #include "ui/analysis_service.hpp"
@@ -77,6 +78,7 @@ class MainWindow : public QMainWindow {
   RecentFiles* _recent;
   FileActions* _files;
   Autosave* _autosave = nullptr;
+  std::unique_ptr<pb::Analyzer> _estimator;  ///< the closed-form level, for the provisional answer
   AnalysisService* _service;
   ScenarioPicker* _picker;
   StackBuilderPanel* _builder;

@@ -82,6 +82,7 @@ QString ResultsPanel::dispatchText() const {
 }
 
 void ResultsPanel::clear() {
+  _provisional = false;
   _grade->setText(tr("<b>No analysis yet</b>"));
   _limits->clear();
   _reason->clear();
@@ -90,12 +91,23 @@ void ResultsPanel::clear() {
 }
 
 void ResultsPanel::showError(const QString& message) {
+  _provisional = false;
   _grade->setText(tr("<span style='color:#c81e1e'><b>Could not analyse this pallet</b></span>"));
   _limits->clear();
   _reason->setText(message);
 }
 
+void ResultsPanel::setProvisional(const SafetyResult& estimate) {
+  setResult(estimate);
+  _provisional = true;
+  _limits->setText(tr("<i>Provisional: the closed-form estimate, before any simulation (for loads "
+                      "whose cartons can move it can be a few tenths off either way); the "
+                      "analysis replaces it.</i><br>") +
+                   _limits->text());
+}
+
 void ResultsPanel::setResult(const SafetyResult& r) {
+  _provisional = false;
   const Grade g = grade(r);
   // A build defect has no limits to compare with the table, so it gets no comparison line.
   const QString basis =

@@ -35,9 +35,14 @@ class ResultsPanel : public QWidget {
   QString limitsText() const;
   QString reasonText() const;
   QString dispatchText() const;
+  /// True while the limits shown are the closed-form estimate (setProvisional), not the analysis.
+  bool isProvisional() const { return _provisional; }
 
  public slots:
   void setResult(const pb::SafetyResult& result);
+  /// The closed-form estimate, known within a millisecond (fidelity closed_form: no simulation),
+  /// shown at once and marked provisional until setResult() replaces it with the analysis.
+  void setProvisional(const pb::SafetyResult& estimate);
   /// Explains the dispatch the replay recorded ("top item slid: needs mu 0.41, has 0.32 at -22 C").
   void setReplay(const pb::Replay& replay);
   void setDialledPoint(double speed_mps, double accel_mps2);
@@ -51,6 +56,7 @@ class ResultsPanel : public QWidget {
   QLabel* _reason;
   QLabel* _dispatch;
   FailureMapView* _map;
+  bool _provisional = false;
 };
 
 }  // namespace pb::ui

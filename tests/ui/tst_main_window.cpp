@@ -196,6 +196,20 @@ class TestMainWindow : public QObject {
     QCOMPARE(replay->player()->time(), replay->player()->startTime());
   }
 
+  // The closed-form estimate shows at once, marked provisional; the analysis replaces it.
+  void theAnswerIsProvisionalUntilTheAnalysisArrives() {
+    MainWindow window;
+    QVERIFY(window.loadScenario(QStringLiteral("top-heavy-surprise")));
+    QSignalSpy finished(&window, &MainWindow::dispatchFinished);
+    window.dispatch(pb::load_scenario("top-heavy-surprise")->suggested_profile, true);
+    QVERIFY(window.resultsPanel()->isProvisional());
+    QVERIFY(window.resultsPanel()->limitsText().contains(QStringLiteral("Provisional")));
+    QVERIFY(finished.wait(60000));
+    QVERIFY(!window.resultsPanel()->isProvisional());
+    QVERIFY(!window.resultsPanel()->limitsText().contains(QStringLiteral("Provisional")));
+    QVERIFY(window.resultsPanel()->limitsText().contains(QStringLiteral("simulations")));
+  }
+
   void menusOfferReplayFilesAndShortcuts() {
     MainWindow window;
     QStringList titles;
