@@ -52,7 +52,11 @@ ReplayControls::ReplayControls(ReplayPlayer* player, QWidget* parent)
   _preset->addItem(tr("Top"), static_cast<int>(CameraPreset::top));
   _preset->setToolTip(tr("Camera preset"));
   _follow = new QCheckBox(tr("Follow failing item"), this);
+  _follow->setToolTip(tr("Keep the camera on the item that failed first"));
   _timeline = new Timeline(this);
+  _timeline->setToolTip(
+      tr("Click or drag to move through the replay; the red mark is the failure (Home: start, "
+         "End: end)"));
   _readout = new QLabel(this);
   _readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
 
