@@ -13,8 +13,9 @@ namespace {
 // carton turned a quarter turn has exactly swapped extents.
 Vec2 cos_sin_deg(double deg) {
   const double quarter = deg / 90.0;
-  if (quarter == std::round(quarter)) {
-    const long q = ((static_cast<long>(std::round(quarter)) % 4) + 4) % 4;
+  if (std::isfinite(quarter) && quarter == std::round(quarter)) {
+    // fmod, not a cast: a yaw of 1e88 degrees (read from a hostile file) has no `long`.
+    const int q = static_cast<int>(std::fmod(std::fmod(quarter, 4.0) + 4.0, 4.0));
     static constexpr Vec2 kExact[4] = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, -1.0}};
     return kExact[q];
   }
