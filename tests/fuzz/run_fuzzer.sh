@@ -1,12 +1,12 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# run_fuzzer.sh TARGET WORKDIR SECONDS CORPUS REGRESSIONS: runs a libFuzzer target for SECONDS on
+# run_fuzzer.sh TARGET WORKDIR SECONDS SEED CORPUS REGRESSIONS: runs a libFuzzer target for SECONDS on
 # its committed corpus and regressions, writing new inputs and any crash to WORKDIR (never to the
 # committed corpus). Exits non-zero on a crash, leak, sanitizer report or an input over 1 s.
 set -eu
-target=$1 work=$2 seconds=$3 corpus=$4 regressions=$5
+target=$1 work=$2 seconds=$3 seed=$4 corpus=$5 regressions=$6
 mkdir -p "$work/new" "$work/artifacts"
 set -- "$work/new" "$corpus"
 [ -d "$regressions" ] && set -- "$@" "$regressions"
-exec "$target" -max_total_time="$seconds" -timeout=1 -rss_limit_mb=2560 -max_len=65536 \
+exec "$target" -max_total_time="$seconds" -seed="$seed" -timeout=1 -rss_limit_mb=2560 -max_len=65536 \
   -print_final_stats=1 -artifact_prefix="$work/artifacts/" "$@"
