@@ -7,6 +7,7 @@
 #include <QLineSeries>
 #include <QValueAxis>
 #include <algorithm>
+#include <cmath>
 
 namespace pb::ui {
 
@@ -130,7 +131,40 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
       _yMax[q] = y->max();
     }
   }
+  fitTicks();
   setCursorTime(_t0);
+}
+
+void TracePlots::resizeEvent(QResizeEvent* event) {
+  QWidget::resizeEvent(event);
+  fitTicks();
+}
+
+void TracePlots::fitTicks() {
+  // As many y labels as the plot's height holds without one overlapping the next (Qt Charts
+  // elides overlapping labels to "..."), at a round interval (1, 2 or 5 x 10^k) from zero.
+  const double label = 1.8 * fontMetrics().height();
+  for (int q = 0; q < kQuantities; ++q) {
+    const double height = _charts[q]->plotArea().height() > 0.0 ? _charts[q]->plotArea().height()
+                                                                : this->height() / 2.0 - 60.0;
+    const int fit = std::max(2, static_cast<int>(height / label) + 1);
+    const double raw = _yMax[q] / (fit - 1);
+    const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = 10.0 * decade;
+    for (const double m : {1.0, 2.0, 5.0}) {
+      if (m * decade >= raw) {
+        step = m * decade;
+        break;
+      }
+    }
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
+      auto* y = static_cast<QValueAxis*>(axis);
+      y->setTickType(QValueAxis::TicksDynamic);
+      y->setTickAnchor(0.0);
+      y->setTickInterval(step);
+      y->setLabelFormat(step >= 1.0 ? QStringLiteral("%.0f") : QStringLiteral("%.1f"));
+    }
+  }
 }
 
 void TracePlots::setCursorTime(double t_s) {

@@ -59,7 +59,13 @@ class TracePlots : public QWidget {
   void setCursorTime(double t_s);
   void clear();
 
+ protected:
+  void resizeEvent(QResizeEvent* event) override;
+
  private:
+  /// The y axes' tick interval for the plots' current height (no overlapping, elided labels).
+  void fitTicks();
+
   std::array<QChart*, kQuantities> _charts{};
   std::array<QLineSeries*, kQuantities> _series{};
   std::array<QLineSeries*, kQuantities> _thresholds{};

@@ -4,6 +4,9 @@
 // detector fired on), the threshold lines sit at the detector thresholds, the cursor follows.
 #include <QChart>
 #include <QDir>
+#include <QGraphicsScene>
+#include <QGraphicsSimpleTextItem>
+#include <QGraphicsTextItem>
 #include <QLineSeries>
 #include <QtTest>
 #include <cmath>
@@ -100,6 +103,41 @@ class TestTracePlots : public QObject {
     QCOMPARE(plots.cursorTime(), 1.0);
     plots.clear();
     QCOMPARE(plots.series(TracePlots::Tilt)->count(), 0);
+  }
+
+  // No label of any plot is elided ("...") at the sizes the console gives the plots, from a
+  // 1024x768 window up; the tower's replay has the widest numbers (to 300 cm).
+  void noLabelIsElided_data() {
+    QTest::addColumn<QSize>("size");
+    QTest::newRow("1024x768 console") << QSize(500, 300);
+    QTest::newRow("1280x800 console") << QSize(700, 330);
+    QTest::newRow("1920x1080 console") << QSize(1100, 370);
+  }
+  void noLabelIsElided() {
+    QFETCH(QSize, size);
+    const auto scenario = load_scenario("tall-unwrapped-tower");
+    Analyzer analyzer;
+    const auto solve = analyzer.solve(scenario->pallet, scenario->suggested_profile);
+    QVERIFY(solve.ok());
+    TracePlots plots;
+    plots.resize(size);
+    plots.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&plots));
+    plots.setReplay(solve->replay);
+    QTest::qWait(50);
+    QStringList elided;
+    for (int q = 0; q < TracePlots::kQuantities; ++q) {
+      QGraphicsScene* scene = plots.chart(TracePlots::Quantity(q))->scene();
+      for (QGraphicsItem* item : scene->items()) {
+        QString text;
+        if (auto* t = dynamic_cast<QGraphicsTextItem*>(item)) text = t->toPlainText();
+        if (auto* t = dynamic_cast<QGraphicsSimpleTextItem*>(item)) text = t->text();
+        if (item->isVisible() &&
+            (text.contains(QChar(0x2026)) || text.endsWith(QStringLiteral("..."))))
+          elided << QStringLiteral("plot %1: '%2'").arg(q).arg(text);
+      }
+    }
+    QVERIFY2(elided.isEmpty(), qPrintable(elided.join(QStringLiteral(" | "))));
   }
 
   void aRealFailureCrossesItsThresholdAtTheEnd() {
