@@ -38,6 +38,8 @@ class AnalysisService : public QObject {
 
  public:
   explicit AnalysisService(pb::AnalyzerOptions options = {}, QObject* parent = nullptr);
+  /// The options its Analyzer was made with (fixed for the service's life).
+  const pb::AnalyzerOptions& options() const { return _analyzer->options(); }
   /// Cancels every request and waits for the core call that is running, if any, to end.
   ~AnalysisService() override;
 

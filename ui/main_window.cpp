@@ -87,7 +87,7 @@ MainWindow::MainWindow(QWidget* parent)
 
   // Right: the dials and what the analysis says; the friction chart under them.
   _dials = new DialPanel(this);
-  const pb::SearchConfig search = pb::AnalyzerOptions{}.search;  // the service's (its defaults)
+  const pb::SearchConfig& search = _service->options().search;
   _dials->setAnalysedRange(search.speed_max_mps, search.accel_max_mps2);
   _results = new ResultsPanel(this);
   _friction = new FrictionChart(this);
@@ -252,7 +252,7 @@ void MainWindow::dispatch(const pb::ConveyorProfile& profile, bool analyze, bool
     // The closed-form estimate at once (a fraction of a millisecond), marked provisional until
     // the analysis replaces it; set first, so that an answer from the cache always wins.
     if (!_estimator) {
-      pb::AnalyzerOptions o;
+      pb::AnalyzerOptions o = _service->options();  // the same line and search, no simulation
       o.fidelity = pb::Fidelity::closed_form;
       _estimator = std::make_unique<pb::Analyzer>(o);
     }
