@@ -42,13 +42,25 @@ constexpr double kSettleLead = 0.05;  // s at steady speed before a stop or a cu
 struct ProbeVerdict {
   bool failed = false;
   FailureMode mode = FailureMode::no_failure;
+  double peak_ratio = 0.0;  ///< SimResult::peak_ratio
 };
 
-// One axis: probe near the seed, step outwards (doubling) until the boundary is bracketed, then
-// bisect to the precision. Failure is assumed monotone along the axis. With a batch function and
-// k > 1 the bracket is narrowed by k-section instead: each round probes k points of the bisection
-// grid of the bracket at once (one batched call), so rounds drop from log2 n to log_{k+1} n; the
-// walk that brackets the boundary takes its next k points per round.
+// A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
+// within a step or two of the limit: the walk up keeps its step there instead of doubling.
+constexpr double kNearFailure = 0.5;
+
+// One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect to
+// half the precision (the limit is within half a step of the threshold, and within one step of any
+// model that agrees). Down from a failing seed the steps are three of the precision, then doubling
+// (a seed just above the weakest onset lands within about two steps of the limit); up from a safe
+// one, one step at a time while the last probe came near failing (kNearFailure), else doubling
+// (a pallet that must slip 0.3 m can be ten steps above its onset). Every walk's steps are the
+// precision times powers of two, so the bisection grid, and the limit when failure is monotone,
+// do not depend on the walk. Failure is assumed monotone along the
+// axis. With a batch function and k > 1 the bracket is narrowed by k-section instead: each round
+// probes k points of the bisection grid of the bracket at once (one batched call), so rounds drop
+// from log2 n to log_{k+1} n; the walk that brackets the boundary takes its next k points per
+// round.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
@@ -72,8 +84,10 @@ class AxisSearch {
     out.closed_form = seed;
     std::optional<double> safe, fail;
     FailureMode fail_mode = FailureMode::no_failure;
+    double last_ratio = 0.0;  // the peak ratio of the probe recorded last
     auto record = [&](double x, const ProbeVerdict& v) {
       ++out.probes;
+      last_ratio = v.peak_ratio;
       if (v.failed) {
         if (!fail || x < *fail) {
           fail = x;
@@ -103,9 +117,9 @@ class AxisSearch {
       return verdicts;
     };
     // k-section over the points bisection of [a, b] could probe (a and b known already).
-    auto k_section = [&](double a, double b) -> bool {
+    auto k_section = [&](double a, double b, double width) -> bool {
       std::vector<double> grid{a};
-      bisection_grid(a, b, 0, grid);
+      bisection_grid(a, b, width, 0, grid);
       std::size_t i = 0, j = grid.size() - 1;
       while (j - i > 1) {
         const std::size_t m = std::min(std::size_t(k_), j - i - 1);
@@ -133,7 +147,7 @@ class AxisSearch {
     const bool sectioned = batch_ && k_ > 1;
     if (!seeded_) {  // the reference's plain bisection over the whole range
       double lo = min_, hi = max_;
-      if (sectioned && !k_section(lo, hi)) return std::nullopt;
+      if (sectioned && !k_section(lo, hi, precision_)) return std::nullopt;
       while (!sectioned && hi - lo > precision_) {
         const double mid = 0.5 * (lo + hi);
         auto r = test(mid);
@@ -148,7 +162,8 @@ class AxisSearch {
     const double first = std::clamp(seed, min_, max_);
     auto r = test(first);
     if (!r) return std::nullopt;
-    double step = precision_;
+    int walked = 0;
+    double step = walk_step(walked);
     if (sectioned) {
       // The walk in rounds of the next k points the serial walk would probe (the range's end
       // last, when the walk reaches it): under monotone failure the first failing (walking up)
@@ -162,7 +177,7 @@ class AxisSearch {
           if (up ? x < max_ : x > min_) {
             xs.push_back(x);
             from = x;
-            step *= 2;
+            step = walk_step(++walked);
           } else {
             if (up ? first < max_ : first > min_) xs.push_back(up ? max_ : min_);
             last = true;
@@ -173,34 +188,42 @@ class AxisSearch {
         if (last) break;
       }
     } else if (*r) {  // failed: walk down
-      for (double x = first - step; !safe && x > min_; step *= 2, x = *fail - step) {
+      for (double x = first - step; !safe && x > min_;
+           step = walk_step(++walked), x = *fail - step) {
         if (!test(x)) return std::nullopt;
       }
       if (!safe && first > min_ && !test(min_)) return std::nullopt;
-    } else {  // safe: walk up
-      for (double x = first + step; !fail && x < max_; step *= 2, x = *safe + step) {
+    } else {  // safe: walk up, one step at a time while the load comes near failing, else doubling
+      for (double x = first + step; !fail && x < max_; x = *safe + step) {
         if (!test(x)) return std::nullopt;
+        step = step == precision_ && last_ratio >= kNearFailure ? precision_ : 2.0 * step;
       }
       if (!fail && first < max_ && !test(max_)) return std::nullopt;
     }
-    if (sectioned && safe && fail && *fail - *safe > precision_) {
-      if (!k_section(*safe, *fail)) return std::nullopt;
+    if (sectioned && safe && fail && *fail - *safe > finest()) {
+      if (!k_section(*safe, *fail, finest())) return std::nullopt;
     }
-    while (!sectioned && safe && fail && *fail - *safe > precision_) {
+    while (!sectioned && safe && fail && *fail - *safe > finest()) {
       if (!test(0.5 * (*safe + *fail))) return std::nullopt;
     }
     return finish(out, safe, fail, fail_mode);
   }
 
  private:
-  // Appends the points bisection of [a, b] to the precision can probe after a, ascending, b
-  // last: the same expressions as the bisection, so the same doubles and, when failure is
-  // monotone, the same limit.
-  void bisection_grid(double a, double b, int depth, std::vector<double>& out) const {
-    if (b - a > precision_ && depth < kMaxDepth) {
+  // The walk's n-th step (n from 0): the precision three times, then doubling.
+  double walk_step(int n) const { return precision_ * double(1 << std::clamp(n - 2, 0, 30)); }
+  // The widest bracket the seeded search leaves: half the precision (with a relative tolerance, so
+  // that a bracket of exactly half a step is not halved again for a rounding of its difference).
+  double finest() const { return 0.5 * precision_ * (1.0 + 1e-9); }
+
+  // Appends the points bisection of [a, b] until brackets are at most `width` wide can probe after
+  // a, ascending, b last: the same expressions as the bisection, so the same doubles and, when
+  // failure is monotone, the same limit.
+  void bisection_grid(double a, double b, double width, int depth, std::vector<double>& out) const {
+    if (b - a > width && depth < kMaxDepth) {
       const double m = 0.5 * (a + b);
-      bisection_grid(a, m, depth + 1, out);
-      bisection_grid(m, b, depth + 1, out);
+      bisection_grid(a, m, width, depth + 1, out);
+      bisection_grid(m, b, width, depth + 1, out);
     } else {
       out.push_back(b);
     }
@@ -388,7 +411,8 @@ Probe make_probe(Axis axis, double x, const SimResult& r) {
                r.failure ? r.failure->time_s : 0.0,
                r.wall_ms,
                r.steps - r.steps_skipped,
-               r.sim_time_s};
+               r.sim_time_s,
+               r.peak_ratio};
 }
 
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
@@ -407,7 +431,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       unstable_at(x, r);
       return std::nullopt;
     }
-    return ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode};
+    return ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode, r.peak_ratio};
   };
   auto batch = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
     std::vector<ConveyorProfile> profiles;
@@ -424,7 +448,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       const SimResult& r = (*runs.value)[i];
       out.probes.push_back(make_probe(t.axis, xs[i], r));
       if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
-      verdicts.push_back(ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode});
+      verdicts.push_back(
+          ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode, r.peak_ratio});
     }
     if (out.unstable) return std::nullopt;
     return verdicts;

@@ -78,6 +78,7 @@ struct Probe {
   double wall_ms = 0.0;
   int steps = 0;            ///< mj_step calls (profile steps reached minus those jumped)
   double sim_time_s = 0.0;  ///< profile time reached
+  double peak_ratio = 0.0;  ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
 };
 
 struct AxisLimit {

@@ -66,6 +66,7 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"failure_time_s", p.outcome == Outcome::failed ? Json(p.failure_time_s) : Json(nullptr)},
          {"sim_time_s", p.sim_time_s},
          {"steps", p.steps},
+         {"peak_ratio", p.peak_ratio},
          {"wall_ms", p.wall_ms}});
   }
   return out;

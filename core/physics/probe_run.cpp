@@ -311,7 +311,13 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   if (k == 1) pe0_ = potential_energy(m, d);
   DetectorReadings readings;
   if (!r_.failure) {
-    if (auto event = detector_.update(t_next, belt, pallet, items_, &readings)) {
+    auto event = detector_.update(t_next, belt, pallet, items_, &readings);
+    const DetectorThresholds& th = detector_.thresholds();
+    r_.peak_ratio = std::max(
+        {r_.peak_ratio, readings.tilt_deg / th.tip_deg, readings.item_slide_m / th.item_slide_m,
+         readings.load_shift_m / th.load_shift_m, readings.pallet_slip_m / th.pallet_slip_m});
+    if (event) {
+      r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
       r_.failure = std::move(event);
       r_.outcome = Outcome::failed;
       if (o_.fail_fast) {

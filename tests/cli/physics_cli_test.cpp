@@ -376,10 +376,13 @@ class PhysicsCliTest : public QObject {
     QSet<QString> axes;
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
-      QCOMPARE(p.size(),
-               8);  // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, wall_ms
+      // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, wall_ms
+      QCOMPARE(p.size(), 9);
       axes.insert(str(p, "axis"));
       const bool failed = str(p, "outcome") == QStringLiteral("failed");
+      // How near it came to failing: past every threshold once failed, within them all if safe.
+      QVERIFY(failed ? num(p, "peak_ratio") >= 1.0
+                     : num(p, "peak_ratio") >= 0.0 && num(p, "peak_ratio") <= 1.0);
       QVERIFY(failed || str(p, "outcome") == QStringLiteral("safe"));
       QCOMPARE(p.value(QStringLiteral("failure_time_s")).isNull(), !failed);
       QCOMPARE(str(p, "mode") == QStringLiteral("no_failure"), !failed);
