@@ -354,15 +354,12 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
   return p;
 }
 
-AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
-                                 const SearchConfig& s, const DetectorThresholds& thresholds) {
+namespace {
+
+// Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe).
+AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                  const SearchConfig& s, const DetectorThresholds& thresholds) {
   AxisPredictions p;
-  if (!bounds.one_body()) {  // items can slide and rock: the onsets (see the header)
-    const QuasiStaticLimit along = bounds.weakest_along(), across = bounds.weakest_across();
-    p.accel = p.decel = {along.accel_mps2, along.mode};
-    p.lateral = {across.accel_mps2 / kGravity, across.mode};
-    return p;
-  }
   p.accel = predict_axis(
       bounds.along, 1.0, s.accel_min_mps2, s.accel_max_mps2,
       [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
@@ -375,6 +372,19 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
         return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
       },
       thresholds);
+  return p;
+}
+
+}  // namespace
+
+AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDescription& line,
+                                 const SearchConfig& s, const DetectorThresholds& thresholds) {
+  if (bounds.one_body()) return rigid_predictions(bounds, line, s, thresholds);
+  // Items can slide and rock: the onsets (see the header).
+  AxisPredictions p;
+  const QuasiStaticLimit along = bounds.weakest_along(), across = bounds.weakest_across();
+  p.accel = p.decel = {along.accel_mps2, along.mode};
+  p.lateral = {across.accel_mps2 / kGravity, across.mode};
   return p;
 }
 
@@ -515,22 +525,28 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // fail in range). A load whose items can slide and rock may fail in bands (tall-unwrapped and
   // top-heavy loads do): its search walks up from just above the weakest onset, so the first
   // failure above the onset is the one it finds.
+  //
+  // The walk up starts one step above the weakest onset, or where the rigid-body prediction of
+  // any mechanism says the probe fails if that is lower: a curve holds its demand for the whole
+  // arc, so a Coulomb slide reaches its allowance there a thousandth of a g above the onset, and a
+  // search from one step above it would first walk down.
   const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
+  const AxisPredictions rigid = rigid_predictions(bounds, line, s, o.thresholds);
   const bool one_body = bounds.one_body();
-  auto seed = [&](const AxisPrediction& p, double hi, double precision) {
-    if (!one_body) return p.value + precision;  // the prediction is the weakest onset
+  auto seed = [&](const AxisPrediction& p, const AxisPrediction& r, double hi, double precision) {
+    if (!one_body) return std::min(p.value + precision, r.value);
     return p.value >= hi ? hi : p.value - 0.5 * precision;
   };
   const std::vector<AxisTask> tasks{
       {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
-       seed(predicted.accel, s.accel_max_mps2, s.accel_precision_mps2), predicted.accel.value,
-       [&](double a) { return accel_probe_profile(a, s); }},
+       seed(predicted.accel, rigid.accel, s.accel_max_mps2, s.accel_precision_mps2),
+       predicted.accel.value, [&](double a) { return accel_probe_profile(a, s); }},
       {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
-       seed(predicted.decel, s.decel_max_mps2, s.decel_precision_mps2), predicted.decel.value,
-       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
+       seed(predicted.decel, rigid.decel, s.decel_max_mps2, s.decel_precision_mps2),
+       predicted.decel.value, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
       {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
-       seed(predicted.lateral, s.lateral_max_g, s.lateral_precision_g), predicted.lateral.value,
-       [&](double g) { return lateral_probe_profile(g, line, s); }},
+       seed(predicted.lateral, rigid.lateral, s.lateral_max_g, s.lateral_precision_g),
+       predicted.lateral.value, [&](double g) { return lateral_probe_profile(g, line, s); }},
       {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed, speed_seed,
        [&](double v) { return stop_probe_profile(v, line, s); }},
   };
