@@ -254,6 +254,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
     }
     entry = safety_result_to_json(envelope->result);
     entry["probes"] = probes_to_json(envelope->probes);
+    entry["speculative_sims"] = envelope->speculative;
   } else {
     auto result = analyzer.analyze(input->pallet);
     if (!result) {
@@ -529,9 +530,9 @@ std::vector<Command> physics_commands() {
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
           "list every probe of each search (axis, value, outcome, mode, failure_time_s, "
-          "sim_time_s, "
-          "steps, wall_ms); every "
-          "file's search is then run, repeated pallets included"},
+          "sim_time_s, steps, peak_ratio: how near it came to failing, wall_ms) and "
+          "speculative_sims (probes run ahead on spare cores and not needed); every file's search "
+          "is then run, repeated pallets included"},
          {"fidelity", "LEVEL",
           enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "
                                      "agreement with the full model is established)"},

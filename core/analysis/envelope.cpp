@@ -408,6 +408,8 @@ struct AxisTask {
 struct AxisOutcome {
   std::optional<AxisLimit> limit;
   std::vector<Probe> probes;
+  int ran_ahead = 0;    ///< probes run ahead on a spare core
+  int speculative = 0;  ///< of those, the ones the search never needed
   std::optional<std::string> unstable;
   std::optional<std::string> batch_error;
   std::optional<std::string> error;  ///< an exception ended the search (out of memory, say)
@@ -425,23 +427,192 @@ Probe make_probe(Axis axis, double x, const SimResult& r) {
                r.peak_ratio};
 }
 
+// Cores the searches of one envelope share, for speculative probes (SearchConfig::speculate): a
+// search that would leave a core idle runs, beside its probe, the probe it takes next on one
+// outcome of it. The search itself consumes probes exactly as the serial search does (its path,
+// its limits and its probe list are the serial ones: each probe loads the whole rest state, so a
+// probe is bitwise the same on any mjData); only the wall time depends on what ran ahead.
+struct Cores {
+  int total = 1;
+  std::atomic<int> busy{0};                ///< axis searches running + speculative probes running
+  std::atomic<int> simulators{0};          ///< helper mjData the memory budget still allows
+  std::atomic<double> last_probe_ms{0.0};  ///< the wall time of the probe any search ended last
+};
+
+// Probes one search runs ahead of its path on spare cores (one axis thread uses it).
+class Lookahead {
+ public:
+  Lookahead(Cores& cores, const Scene& scene, const RestState& rest, const SimOptions& o)
+      : cores_(cores), scene_(scene), rest_(rest), o_(o) {}
+  ~Lookahead() { drain(); }
+  Lookahead(const Lookahead&) = delete;
+  Lookahead& operator=(const Lookahead&) = delete;
+
+  // The result of the probe at x if it ran ahead (waiting for it if it is still running).
+  std::optional<SimResult> take(double x) {
+    if (auto f = flying_.find(x); f != flying_.end()) land(f);
+    auto it = done_.find(x);
+    if (it == done_.end()) return std::nullopt;
+    SimResult r = std::move(it->second);
+    done_.erase(it);
+    ++used_;
+    return r;
+  }
+  // Before the path's probe at x: on spare cores, start the probes `next` names for each outcome
+  // of x (failed first).
+  void ahead(double x, const std::function<std::optional<double>(double, bool)>& next,
+             const std::function<ConveyorProfile(double)>& profile) {
+    for (const bool failed : {true, false}) {
+      if (cores_.total - cores_.busy.load() <= 0) return;
+      const std::optional<double> y = next(x, failed);
+      if (!y || *y == x || done_.contains(*y) || flying_.contains(*y)) continue;
+      std::unique_ptr<Simulator> sim = simulator();
+      if (!sim) return;
+      auto f = std::make_unique<Flight>();
+      f->x = x;
+      f->failed = failed;
+      f->sim = std::move(sim);
+      Flight* raw = f.get();
+      SimOptions o = o_;
+      o.abandon = &raw->abandon;
+      const ConveyorProfile pr = profile(*y);
+      ++cores_.busy;
+      raw->thread = std::thread([this, raw, o, pr] {
+        try {
+          raw->result = raw->sim->run(rest_, pr, o);
+        } catch (...) {  // the path runs it again if it needs it
+          raw->result.reset();
+        }
+        --cores_.busy;
+      });
+      flying_.emplace(*y, std::move(f));
+    }
+  }
+  // The path's probe at x ended (failed or not): what ran ahead for the other outcome is dropped.
+  void decided(double x, bool failed) {
+    for (auto& [y, f] : flying_) {
+      if (f->x == x && f->failed != failed) f->abandon = true;
+    }
+  }
+  // Probes that ran ahead, and of those the ones never taken (after drain()).
+  int started() const { return started_; }
+  int wasted() const { return started_ - used_; }
+  void drain() {
+    for (auto& [y, f] : flying_) f->abandon = true;
+    while (!flying_.empty()) land(flying_.begin());
+  }
+
+ private:
+  struct Flight {
+    double x = 0.0;       ///< the path's probe it ran beside
+    bool failed = false;  ///< the outcome of that probe it assumed
+    std::unique_ptr<Simulator> sim;
+    CancelFlag abandon{false};
+    std::optional<SimResult> result;
+    std::thread thread;
+  };
+  using Flights = std::map<double, std::unique_ptr<Flight>>;
+
+  std::unique_ptr<Simulator> simulator() {
+    if (!idle_.empty()) {
+      auto sim = std::move(idle_.back());
+      idle_.pop_back();
+      return sim;
+    }
+    if (cores_.simulators.fetch_sub(1) <= 0) {
+      ++cores_.simulators;
+      return nullptr;
+    }
+    auto created = Simulator::create(scene_);
+    if (!created) return nullptr;
+    return std::make_unique<Simulator>(std::move(*created.value));
+  }
+  // Joins a flight; keeps its result unless it was abandoned (a cancelled run has no verdict).
+  void land(Flights::iterator f) {
+    Flight& flight = *f->second;
+    flight.thread.join();
+    ++started_;
+    if (flight.result && !flight.abandon) done_.emplace(f->first, std::move(*flight.result));
+    idle_.push_back(std::move(flight.sim));
+    flying_.erase(f);
+  }
+
+  Cores& cores_;
+  const Scene& scene_;
+  const RestState& rest_;
+  SimOptions o_;
+  Flights flying_;
+  std::map<double, SimResult> done_;
+  std::vector<std::unique_ptr<Simulator>> idle_;
+  int started_ = 0, used_ = 0;
+};
+
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
+// With `cores` (k = 1 only), probes run ahead on spare cores (Lookahead).
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
-                        const SimOptions& o, bool seeded, int k) {
+                        const SimOptions& o, bool seeded, int k, Cores* cores = nullptr,
+                        double speculate_after_ms = 0.0) {
   AxisOutcome out;
   auto unstable_at = [&](double x, const SimResult& r) {
     if (!out.unstable) {
       out.unstable = std::string(to_string(t.axis)) + " probe at " + fixed(x, 3) + ": " + r.reason;
     }
   };
+  // This search holds a core while it runs (cores->busy); what it ran ahead ends with it.
+  struct Holding {
+    Cores* cores;
+    explicit Holding(Cores* c) : cores(c) {
+      if (cores) ++cores->busy;
+    }
+    ~Holding() {
+      if (cores) --cores->busy;
+    }
+    Holding(const Holding&) = delete;
+    Holding& operator=(const Holding&) = delete;
+  } holding(k == 1 ? cores : nullptr);
+  std::unique_ptr<Lookahead> ahead;
+  if (holding.cores) ahead = std::make_unique<Lookahead>(*cores, simulator.scene(), rest, o);
+  // Results that exist (ran ahead and finished), for the search's dry runs.
+  std::map<double, ProbeVerdict> known;
+  auto verdict_of = [](const SimResult& r) {
+    return ProbeVerdict{r.outcome == Outcome::failed,
+                        r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
+  };
+  // The probe the search takes after x if x ends `failed`: the search run again without
+  // simulating, on what is known, up to the first probe it does not know.
+  auto next_after = [&](double x, bool failed) -> std::optional<double> {
+    std::optional<double> miss;
+    auto oracle = [&](double y) -> std::optional<ProbeVerdict> {
+      if (y == x) return ProbeVerdict{failed, FailureMode::no_failure, 1.0};
+      if (auto it = known.find(y); it != known.end()) return it->second;
+      miss = y;
+      return std::nullopt;
+    };
+    AxisSearch(t.lo, t.hi, t.precision, oracle, seeded).run(t.seed);
+    return miss;
+  };
   auto probe = [&](double x) -> std::optional<ProbeVerdict> {
-    const SimResult r = simulator.run(rest, t.profile(x), o);
+    std::optional<SimResult> ran = ahead ? ahead->take(x) : std::nullopt;
+    if (!ran) {
+      // Only where a probe costs more than a thread and an mjData for it: the last probe of any
+      // axis tells (SearchConfig::speculate_after_ms).
+      if (ahead && cores->last_probe_ms.load() >= speculate_after_ms) {
+        ahead->ahead(x, next_after, t.profile);
+      }
+      ran = simulator.run(rest, t.profile(x), o);
+      if (ahead) {
+        ahead->decided(x, ran->outcome == Outcome::failed);
+        cores->last_probe_ms = ran->wall_ms;
+      }
+    }
+    const SimResult& r = *ran;
+    if (r.outcome != Outcome::unstable) known[x] = verdict_of(r);
     out.probes.push_back(make_probe(t.axis, x, r));
     if (r.outcome == Outcome::unstable) {
       unstable_at(x, r);
       return std::nullopt;
     }
-    return ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode, r.peak_ratio};
+    return verdict_of(r);
   };
   auto batch = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
     std::vector<ConveyorProfile> profiles;
@@ -466,6 +637,11 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   };
   out.limit = AxisSearch(t.lo, t.hi, t.precision, probe, seeded, batch, k).run(t.seed);
   if (out.limit) out.limit->closed_form = t.closed_form;
+  if (ahead) {
+    ahead->drain();
+    out.ran_ahead = ahead->started();
+    out.speculative = ahead->wasted();
+  }
   return out;
 }
 
@@ -565,16 +741,25 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       order.push_back(i);
     }
   }
-  // Runs axis task i on its plane's model (serially, on the model's own simulator).
-  auto search = [&](std::size_t i) {
-    const ProbeModel m = model_of(tasks[i].axis);
-    return search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k);
-  };
   const double data_bytes =
       std::max({1.0, along_model.simulator->data_bytes(), across_model.simulator->data_bytes()});
   const int fit = std::max(1, int(s.axis_memory_bytes / data_bytes));
   const int threads = std::min(
       fit, s.axis_threads == 0 ? int(order.size()) : std::min(s.axis_threads, int(order.size())));
+  // Probes run ahead on spare cores, with as many more mjData as the memory budget holds.
+  Cores cores;
+  cores.total = resolved_threads(0);
+  cores.simulators = std::max(0, fit - threads);
+  Cores* ahead =
+      s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 && cores.simulators.load() > 0
+          ? &cores
+          : nullptr;
+  // Runs axis task i on its plane's model (on the model's own simulator), after the others.
+  auto search = [&](std::size_t i) {
+    const ProbeModel m = model_of(tasks[i].axis);
+    return search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k, ahead,
+                       s.speculate_after_ms);
+  };
   if (threads <= 1) {
     for (std::size_t i : order) {
       outcomes[i] = search(i);
@@ -606,7 +791,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
           outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
-                                    s.seed_with_closed_form, k);
+                                    s.seed_with_closed_form, k, ahead, s.speculate_after_ms);
         } catch (const std::exception& e) {
           outcomes[i] = {};
           outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
@@ -650,6 +835,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   for (std::size_t i = 0; i < tasks.size(); ++i) {
     AxisOutcome& a = outcomes[i];
     env.probes.insert(env.probes.end(), a.probes.begin(), a.probes.end());
+    env.ran_ahead += a.ran_ahead;
+    env.speculative += a.speculative;
     if (a.limit) continue;
     if (a.error) return Result<Envelope>::failure("", "the envelope search failed: " + *a.error);
     if (a.batch_error) {

@@ -61,6 +61,15 @@ struct SearchConfig {
   /// mirror-symmetric load's stop from its start-up, and the e-stop speed from the stop search.
   /// false searches every axis on its own (the reference configuration, the judge, does).
   bool derive_axes = true;
+  /// With the axes on threads of their own (axis_threads != 1) and k = 1: a search that would
+  /// leave a core idle (the other axes done) runs, beside each probe, the probe it takes next on
+  /// one outcome of it (failed first, then safe, as cores allow). The search consumes probes as the
+  /// serial one does, so limits, modes and the probe list are the same with it on or off; only the
+  /// wall time changes (Envelope::speculative counts the probes run ahead for nothing).
+  bool speculate = true;
+  /// ... once the search's last probe took this long (ms): starting a thread and an mjData cost
+  /// about as much as a reduced-model probe (a wrapped load's envelope took 14 ms longer).
+  double speculate_after_ms = 20.0;
 
   bool operator==(const SearchConfig&) const = default;
 };
@@ -99,6 +108,10 @@ struct Envelope {
   AxisLimit accel, decel, lateral, speed;
   std::vector<Probe> probes;
   RestState rest;
+  /// Probes run ahead on spare cores (SearchConfig::speculate), and of those the ones the searches
+  /// never needed (not in `probes` nor in sims_run). Both depend on timing, nothing else does.
+  int ran_ahead = 0;
+  int speculative = 0;
 };
 
 /// The probe profiles of each axis, so that a user can replay the probe that failed.

@@ -282,7 +282,7 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   r_.steps = k;
   r_.sim_time_s = t_next;
   std::optional<std::string> broken;
-  if (is_cancelled(o_.cancel)) broken = std::string(kCancelledReason);
+  if (is_cancelled(o_.cancel) || is_cancelled(o_.abandon)) broken = std::string(kCancelledReason);
   if (!broken && any_warning(d)) {
     broken = instability_reason(&m, &d).value_or("MuJoCo raised a warning");
   }

@@ -89,6 +89,9 @@ struct SimOptions {
   /// When set, a probe stops after its current step and ends unstable, its reason starting with
   /// kCancelledReason: no verdict (a search that meets one fails). Not owned.
   const CancelFlag* cancel = nullptr;
+  /// As `cancel`, for this probe alone: set when its result is no longer wanted (a probe run ahead
+  /// of a search, on the outcome that did not happen). Not owned.
+  const CancelFlag* abandon = nullptr;
 };
 
 struct SimResult {

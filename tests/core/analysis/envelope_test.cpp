@@ -490,20 +490,29 @@ class EnvelopeTest : public QObject {
     QCOMPARE(refused.diagnostics[0].pointer, std::string("/search/parallel_probes"));
   }
 
-  // The axes searched side by side (axis_threads) run bitwise the probes of one axis after
-  // another, reported in axis order: a sliding two-carton stack and a tall carton that tips.
+  // The axes searched side by side (axis_threads), with or without probes run ahead on spare
+  // cores (SearchConfig::speculate), run bitwise the probes of one axis after another, reported in
+  // axis order: a sliding two-carton stack and a tall carton that tips.
   void axisThreadsRunTheSameProbes() {
+    int ran_ahead = 0, ran_ahead_for_nothing = 0;
     for (const auto& [config, mu] : slider_and_tipper()) {
       auto s = settle(config, mu);
       SearchConfig one = search_;
       one.axis_threads = 1;
       auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, one);
       QVERIFY(serial.ok());
-      for (const int threads : {2, 4}) {
+      QCOMPARE(serial->speculative, 0);
+      for (const auto& [threads, speculate] :
+           {std::pair{2, true}, std::pair{4, true}, std::pair{4, false}}) {
         SearchConfig side_by_side = search_;
         side_by_side.axis_threads = threads;
+        side_by_side.speculate = speculate;
+        side_by_side.speculate_after_ms = 0.0;  // these probes are short: run ahead anyway
         auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side);
         QVERIFY(env.ok());
+        if (!speculate) QCOMPARE(env->speculative, 0);
+        ran_ahead += env->ran_ahead;
+        ran_ahead_for_nothing += env->speculative;
         QCOMPARE(env->probes.size(), serial->probes.size());
         for (std::size_t i = 0; i < env->probes.size(); ++i) {
           const Probe &a = serial->probes[i], &b = env->probes[i];
@@ -512,6 +521,8 @@ class EnvelopeTest : public QObject {
           QCOMPARE(b.outcome, a.outcome);
           QCOMPARE(b.mode, a.mode);
           QCOMPARE(b.failure_time_s, a.failure_time_s);
+          QCOMPARE(b.steps, a.steps);
+          QCOMPARE(b.peak_ratio, a.peak_ratio);
         }
         QCOMPARE(env->result.max_accel_mps2, serial->result.max_accel_mps2);
         QCOMPARE(env->result.max_decel_mps2, serial->result.max_decel_mps2);
@@ -520,6 +531,7 @@ class EnvelopeTest : public QObject {
         QCOMPARE(env->result.dominant_failure_mode, serial->result.dominant_failure_mode);
       }
     }
+    qInfo("probes run ahead on spare cores: %d, not needed: %d", ran_ahead, ran_ahead_for_nothing);
     SearchConfig bad = search_;
     bad.axis_threads = -1;
     auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {1.0, 0.3, 0.4});
