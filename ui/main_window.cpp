@@ -148,6 +148,7 @@ MainWindow::MainWindow(QWidget* parent)
           [this](const pb::ConveyorProfile& profile) { dispatch(profile, true, true); });
   connect(_dials, &DialPanel::dialsChanged, _results, &ResultsPanel::setDialledPoint);
   connect(_replay, &ReplayPanel::timeChanged, _traces, &TracePlots::setCursorTime);
+  connect(_traces, &TracePlots::timeRequested, _replay->player(), &ReplayPlayer::setTime);
   connect(_replay->player(), &ReplayPlayer::playingChanged, this, [this](bool playing) {
     const ReplayPlayer* p = _replay->player();
     if (!playing && p->time() >= p->endTime() && p->endTime() > p->startTime()) {

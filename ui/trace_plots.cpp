@@ -4,7 +4,9 @@
 #include <QChart>
 #include <QChartView>
 #include <QGridLayout>
+#include <QLabel>
 #include <QLineSeries>
+#include <QMouseEvent>
 #include <QValueAxis>
 #include <algorithm>
 #include <cmath>
@@ -16,12 +18,13 @@ namespace {
 struct QuantityInfo {
   const char* title;
   const char* unit;
+  const char* readout;  ///< its name in the readout
 };
 constexpr QuantityInfo kInfo[TracePlots::kQuantities] = {
-    {"Pallet tilt", "deg"},
-    {"Item displacement on the pallet", "cm"},
-    {"Load shift (item-to-item)", "cm"},
-    {"Pallet slip on the belt", "cm"},
+    {"Pallet tilt", "deg", "tilt"},
+    {"Item displacement on the pallet", "cm", "item moved"},
+    {"Load shift (item-to-item)", "cm", "load shift"},
+    {"Pallet slip on the belt", "cm", "slip"},
 };
 
 }  // namespace
@@ -82,9 +85,52 @@ TracePlots::TracePlots(QWidget* parent) : QWidget(parent) {
     auto* view = new QChartView(chart, this);
     view->setRenderHint(QPainter::Antialiasing);
     view->setMinimumSize(220, 150);
+    view->setToolTip(tr("Click or drag to move the replay to that time"));
+    view->viewport()->installEventFilter(this);
+    _views[q] = view;
     layout->addWidget(view, q / 2, q % 2);
   }
+  _readout = new QLabel(this);
+  _readout->setWordWrap(true);
+  _readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  _readout->setToolTip(tr("Every quantity at the replay's cursor, with its detector's threshold"));
+  layout->addWidget(_readout, 2, 0, 1, 2);
   clear();
+}
+
+bool TracePlots::eventFilter(QObject* watched, QEvent* event) {
+  const bool press = event->type() == QEvent::MouseButtonPress;
+  const bool drag = event->type() == QEvent::MouseMove;
+  if (press || drag) {
+    const auto* mouse = static_cast<QMouseEvent*>(event);
+    if (mouse->buttons() & Qt::LeftButton) {
+      for (int q = 0; q < kQuantities; ++q) {
+        if (_views[q] == nullptr || watched != _views[q]->viewport() || _series[q]->count() == 0) {
+          continue;
+        }
+        const QPointF scene = _views[q]->mapToScene(mouse->position().toPoint());
+        const QPointF value = _charts[q]->mapToValue(_charts[q]->mapFromScene(scene), _series[q]);
+        emit timeRequested(std::clamp(value.x(), _tStart, _tEnd));
+        return true;
+      }
+    }
+  }
+  return QWidget::eventFilter(watched, event);
+}
+
+double TracePlots::valueAt(const Curve& c, double t_s) {
+  if (c.t.empty()) return 0.0;
+  const auto after = std::upper_bound(c.t.begin(), c.t.end(), t_s);
+  if (after == c.t.begin()) return c.value.front();
+  if (after == c.t.end()) return c.value.back();
+  const std::size_t k = static_cast<std::size_t>(after - c.t.begin());
+  const double t0 = c.t[k - 1], t1 = c.t[k];
+  const double w = t1 > t0 ? (t_s - t0) / (t1 - t0) : 1.0;
+  return c.value[k - 1] + w * (c.value[k] - c.value[k - 1]);
+}
+
+QString TracePlots::readout() const {
+  return _readout->text();
 }
 
 void TracePlots::clear() {
@@ -92,19 +138,22 @@ void TracePlots::clear() {
     _series[q]->clear();
     _thresholds[q]->clear();
     _cursors[q]->clear();
+    _curves[q] = Curve{};
     _yMax[q] = 1.0;
   }
-  _t0 = 0.0;
-  _t1 = 1.0;
+  _tStart = 0.0;
+  _tEnd = 1.0;
   _cursorT = 0.0;
+  _readout->setText(tr("No replay: dispatch the pallet or open a replay to see its traces."));
 }
 
 void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thresholds) {
   clear();
   const auto curves = measure(replay, thresholds);
+  _curves = curves;
   if (!replay.frames.empty()) {
-    _t0 = replay.frames.front().t;
-    _t1 = std::max(_t0 + 1e-3, replay.frames.back().t);
+    _tStart = replay.frames.front().t;
+    _tEnd = std::max(_tStart + 1e-3, replay.frames.back().t);
   }
   for (int q = 0; q < kQuantities; ++q) {
     const Curve& c = curves[q];
@@ -116,13 +165,13 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
       peak = std::max(peak, c.value[i]);
     }
     _series[q]->replace(points);
-    _thresholds[q]->append(_t0, c.threshold);
-    _thresholds[q]->append(_t1, c.threshold);
+    _thresholds[q]->append(_tStart, c.threshold);
+    _thresholds[q]->append(_tEnd, c.threshold);
     _yMax[q] = std::max(1.25 * c.threshold, 1.05 * peak);
     for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) {
       auto* x = static_cast<QValueAxis*>(axis);
-      x->setRange(_t0, _t1);
-      x->setLabelFormat(_t1 - _t0 < 2.0 ? QStringLiteral("%.2f") : QStringLiteral("%.1f"));
+      x->setRange(_tStart, _tEnd);
+      x->setLabelFormat(_tEnd - _tStart < 2.0 ? QStringLiteral("%.2f") : QStringLiteral("%.1f"));
     }
     for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
       auto* y = static_cast<QValueAxis*>(axis);
@@ -132,7 +181,7 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
     }
   }
   fitTicks();
-  setCursorTime(_t0);
+  setCursorTime(_tStart);
 }
 
 void TracePlots::resizeEvent(QResizeEvent* event) {
@@ -168,10 +217,21 @@ void TracePlots::fitTicks() {
 }
 
 void TracePlots::setCursorTime(double t_s) {
-  _cursorT = std::clamp(t_s, _t0, _t1);
+  _cursorT = std::clamp(t_s, _tStart, _tEnd);
   for (int q = 0; q < kQuantities; ++q) {
     _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
   }
+  if (_curves[Tilt].t.empty()) return;
+  QStringList parts;
+  for (int q = 0; q < kQuantities; ++q) {
+    parts << tr("%1 %2 %3 (limit %4)")
+                 .arg(tr(kInfo[q].readout))
+                 .arg(valueAt(_curves[q], _cursorT), 0, 'f', q == Tilt ? 2 : 1)
+                 .arg(tr(kInfo[q].unit))
+                 .arg(_curves[q].threshold, 0, 'g', 3);
+  }
+  _readout->setText(
+      tr("At %1 s: %2").arg(_cursorT, 0, 'f', 3).arg(parts.join(QStringLiteral("; "))));
 }
 
 QByteArray TracePlots::csv(const pb::Replay& replay, const pb::DetectorThresholds& thresholds) {

@@ -2,12 +2,14 @@
 // Trace plots (Qt Charts) of one replay, linked to the replay cursor: pallet tilt, the largest item
 // displacement on the pallet, the load shift (largest change of an item-to-item distance) and the
 // pallet's slip on the belt, against time, each with its detector threshold as a dashed red line
-// and a vertical cursor line at the replay time. Measured with core/physics/detectors.hpp on the
-// replay's frames, the first frame being the rest state (as the detectors' baselines).
+// and a vertical cursor line at the replay time, and under them a readout of every quantity at the
+// cursor. Measured with core/physics/detectors.hpp on the replay's frames, the first frame being
+// the rest state (as the detectors' baselines). A click or a drag on a plot asks for its time.
 //
 // Wiring (MainWindow):
 //   AnalysisService::solved(solve) / a replay file opened -> setReplay(replay)
 //   ReplayControls / timeline time changed               -> setCursorTime(t)
+//   timeRequested(t)                                     -> ReplayPlayer::setTime(t)
 #pragma once
 
 #include <QByteArray>
@@ -19,6 +21,8 @@
 #include "core/physics/detectors.hpp"
 
 class QChart;
+class QChartView;
+class QLabel;
 class QLineSeries;
 
 namespace pb::ui {
@@ -45,12 +49,21 @@ class TracePlots : public QWidget {
   /// item_displacement_cm, load_shift_cm, pallet_slip_cm), then each one's threshold (`_limit`).
   static QByteArray csv(const pb::Replay& replay,
                         const pb::DetectorThresholds& thresholds = pb::DetectorThresholds{});
+  /// A curve's value at `t_s`, linear between frames (the first or last value outside them).
+  static double valueAt(const Curve& curve, double t_s);
 
   QChart* chart(Quantity q) const { return _charts[q]; }
   QLineSeries* series(Quantity q) const { return _series[q]; }
   QLineSeries* thresholdLine(Quantity q) const { return _thresholds[q]; }
   QLineSeries* cursorLine(Quantity q) const { return _cursors[q]; }
+  QChartView* view(Quantity q) const { return _views[q]; }
   double cursorTime() const { return _cursorT; }
+  /// The readout under the plots: every quantity at the cursor, with its threshold.
+  QString readout() const;
+
+ signals:
+  /// A click or a drag on a plot, at this time (within the replay's range).
+  void timeRequested(double t_s);
 
  public slots:
   void setReplay(const pb::Replay& replay,
@@ -61,6 +74,7 @@ class TracePlots : public QWidget {
 
  protected:
   void resizeEvent(QResizeEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   /// The y axes' tick interval for the plots' current height (no overlapping, elided labels).
@@ -70,8 +84,11 @@ class TracePlots : public QWidget {
   std::array<QLineSeries*, kQuantities> _series{};
   std::array<QLineSeries*, kQuantities> _thresholds{};
   std::array<QLineSeries*, kQuantities> _cursors{};
+  std::array<QChartView*, kQuantities> _views{};
+  std::array<Curve, kQuantities> _curves{};
+  QLabel* _readout = nullptr;
   std::array<double, kQuantities> _yMax{};
-  double _t0 = 0.0, _t1 = 1.0;
+  double _tStart = 0.0, _tEnd = 1.0;
   double _cursorT = 0.0;
 };
 

@@ -2,12 +2,16 @@
 // Trace plots: the curves are the detectors' measures over the replay (a synthetic replay with a
 // known tilt and slip, and a real failing run whose last frame crosses the threshold the core's
 // detector fired on), the threshold lines sit at the detector thresholds, the cursor follows.
+#include <QApplication>
 #include <QChart>
+#include <QChartView>
 #include <QDir>
 #include <QGraphicsScene>
 #include <QGraphicsSimpleTextItem>
 #include <QGraphicsTextItem>
 #include <QLineSeries>
+#include <QMouseEvent>
+#include <QSignalSpy>
 #include <QtTest>
 #include <cmath>
 #include <numbers>
@@ -103,6 +107,64 @@ class TestTracePlots : public QObject {
     QCOMPARE(plots.cursorTime(), 1.0);
     plots.clear();
     QCOMPARE(plots.series(TracePlots::Tilt)->count(), 0);
+  }
+
+  // The readout under the plots gives every quantity at the cursor, between frames linearly, with
+  // its threshold; without a replay it says how to get one.
+  void readoutIsEveryQuantityAtTheCursor() {
+    TracePlots plots;
+    QVERIFY(plots.readout().startsWith(QStringLiteral("No replay")));
+    plots.setReplay(synthetic());
+    plots.setCursorTime(0.25);  // halfway from rest to 4 deg and 10 cm of slip
+    QVERIFY2(plots.readout().startsWith(QStringLiteral("At 0.250 s: tilt 2.00 deg (limit 8)")),
+             qPrintable(plots.readout()));
+    QVERIFY2(plots.readout().contains(QStringLiteral("slip 5.0 cm (limit 30)")),
+             qPrintable(plots.readout()));
+    QVERIFY2(plots.readout().contains(QStringLiteral("load shift 0.0 cm (limit 2)")),
+             qPrintable(plots.readout()));
+    plots.setCursorTime(1.0);
+    QVERIFY2(plots.readout().startsWith(QStringLiteral("At 1.000 s: tilt 10.00 deg")),
+             qPrintable(plots.readout()));
+    QCOMPARE(TracePlots::valueAt(TracePlots::Curve{}, 0.5), 0.0);
+    const TracePlots::Curve c{{0.0, 1.0}, {2.0, 4.0}, 0.0};
+    QCOMPARE(TracePlots::valueAt(c, -1.0), 2.0);
+    QCOMPARE(TracePlots::valueAt(c, 0.5), 3.0);
+    QCOMPARE(TracePlots::valueAt(c, 9.0), 4.0);
+  }
+
+  // A click on a plot, and a drag along it, ask for the time under the mouse; outside the
+  // replay's range, its nearest end.
+  void clickingAPlotAsksForItsTime() {
+    TracePlots plots;
+    plots.resize(900, 600);
+    plots.setReplay(synthetic());
+    plots.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&plots));
+    QSignalSpy asked(&plots, &TracePlots::timeRequested);
+    for (const auto q : {TracePlots::Tilt, TracePlots::Slip}) {
+      QChartView* view = plots.view(q);
+      const auto at = [&](double t) {
+        const QPointF scene = plots.chart(q)->mapToScene(
+            plots.chart(q)->mapToPosition(QPointF(t, 0.5), plots.series(q)));
+        return view->mapFromScene(scene);
+      };
+      QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, at(0.75));
+      QCOMPARE(asked.size(), 1);
+      QVERIFY2(std::abs(asked.takeFirst()[0].toDouble() - 0.75) < 0.01,
+               "the click's time is the one under the mouse");
+      QTest::mousePress(view->viewport(), Qt::LeftButton, {}, at(0.2));
+      QMouseEvent move(QEvent::MouseMove, at(0.4), view->viewport()->mapToGlobal(at(0.4)),
+                       Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+      QApplication::sendEvent(view->viewport(), &move);
+      QTest::mouseRelease(view->viewport(), Qt::LeftButton, {}, at(0.4));
+      QCOMPARE(asked.size(), 2);
+      QVERIFY(std::abs(asked[0][0].toDouble() - 0.2) < 0.01);
+      QVERIFY(std::abs(asked[1][0].toDouble() - 0.4) < 0.01);
+      asked.clear();
+      QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, at(5.0));
+      QCOMPARE(asked.size(), 1);
+      QCOMPARE(asked.takeFirst()[0].toDouble(), 1.0);
+    }
   }
 
   // No label of any plot is elided ("...") at the sizes the console gives the plots, from a
