@@ -272,7 +272,11 @@ std::vector<ReplayView::Box> ReplayView::sceneBoxes() const {
     boxes.push_back({stripe, QVector3D(0.06f, beltWidth, 0.001f), QColor(96, 99, 107)});
   }
   if (_frame.items.size() != _replay.pallet.items.size()) return boxes;
-  boxes.push_back({_frame.pallet, toQt(_replay.pallet.base_dims_m), QColor(176, 132, 84)});
+  // Every carton and the pallet with their edges, so that cartons of one SKU side by side or
+  // stacked read as separate boxes, not one block; the failing item's in black, thicker.
+  const QColor pallet(176, 132, 84);
+  boxes.push_back(
+      {_frame.pallet, toQt(_replay.pallet.base_dims_m), pallet, true, edgeColor(pallet)});
   std::vector<bool> failing(_frame.items.size(), false);
   if (_replay.failure) {
     for (int i : _replay.failure->items) {
@@ -282,9 +286,11 @@ std::vector<ReplayView::Box> ReplayView::sceneBoxes() const {
   for (std::size_t i = 0; i < _frame.items.size(); ++i) {
     const pb::Item& item = _replay.pallet.items[i];
     if (failing[i]) {
-      boxes.push_back({_frame.items[i], toQt(item.dims_m), highlightColor(), false, true});
+      boxes.push_back(
+          {_frame.items[i], toQt(item.dims_m), highlightColor(), false, QColor(20, 20, 20), 2.0f});
     } else {
-      boxes.push_back({_frame.items[i], toQt(item.dims_m), skuColor(item.sku)});
+      const QColor c = skuColor(item.sku);
+      boxes.push_back({_frame.items[i], toQt(item.dims_m), c, true, edgeColor(c)});
     }
   }
   return boxes;
@@ -364,6 +370,10 @@ void ReplayView::paintGL() {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
+  // Faces a little behind their depth, so that the edges drawn on them (and on the faces of the
+  // carton beside or above, at the same depth) are never hidden by them.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
   const float aspect = static_cast<float>(width()) / static_cast<float>(std::max(1, height()));
   const QMatrix4x4 viewProjection = _camera.projection(aspect) * _camera.view();
   _program->bind();
@@ -402,13 +412,13 @@ void ReplayView::drawBox(const QMatrix4x4& viewProjection, const Box& box) {
   _program->setAttributeBuffer(1, GL_FLOAT, 3 * sizeof(float), 3, 6 * sizeof(float));
   glDrawArrays(GL_TRIANGLES, 0, 36);
   _cube.release();
-  if (!box.outlined) return;
+  if (!box.edge.isValid()) return;
   _edges.bind();
   _program->setAttributeBuffer(0, GL_FLOAT, 0, 3, 6 * sizeof(float));
   _program->setAttributeBuffer(1, GL_FLOAT, 3 * sizeof(float), 3, 6 * sizeof(float));
-  _program->setUniformValue("u_color", QColor(20, 20, 20));
+  _program->setUniformValue("u_color", box.edge);
   _program->setUniformValue("u_lit", 0.0f);
-  glLineWidth(2.0f);
+  glLineWidth(box.edgeWidth);
   glDrawArrays(GL_LINES, 0, 24);
   glLineWidth(1.0f);
   _edges.release();

@@ -78,6 +78,8 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   static QColor skuColor(const std::string& sku);
   /// The failing items' colour (drawn unlit, with a dark outline).
   static QColor highlightColor() { return QColor(255, 32, 32); }
+  /// The colour a carton's (or the pallet's) edges are drawn in: its own, much darker.
+  static QColor edgeColor(const QColor& face) { return face.darker(260); }
   static QColor backgroundColor() { return QColor(232, 236, 241); }
 
   /// The frame at time `t` of `replay` (clamped): pb::frame_at.
@@ -97,7 +99,8 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
     QVector3D dims;
     QColor color;
     bool lit = true;
-    bool outlined = false;
+    QColor edge = QColor();  ///< its 12 edges drawn in this colour (none if invalid)
+    float edgeWidth = 1.0f;
   };
   std::vector<Box> sceneBoxes() const;
   void updateFollowTarget();

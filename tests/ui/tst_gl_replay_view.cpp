@@ -123,6 +123,48 @@ class TestGlReplayView : public QObject {
     QCOMPARE(image.pixelColor(8, 8), ReplayView::backgroundColor());
   }
 
+  // Cartons of one SKU stacked in a column read as separate boxes: the edge where one carton's
+  // front face meets the next one's is drawn dark (edgeColor), the faces around it in their shade.
+  void everyCartonShowsItsEdges() {
+    ReplayView view;
+    view.resize(kSize);
+    view.setReplay(_replay);
+    view.setPreset(pb::ui::CameraPreset::iso);
+    view.setTime(_replay.frames.front().t);  // at rest: the column stands straight
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QImage image = view.grabFramebuffer();
+    QVERIFY2(view.glProblem().isEmpty(), qPrintable(view.glProblem()));
+    const QString path = QStringLiteral(PB_TEST_ARTIFACTS_DIR "/replay_edges_at_rest.png");
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)) && image.save(path));
+    qInfo("screenshot: %s", qPrintable(path));
+    const pb::ReplayFrame& frame = view.currentFrame();
+    for (int i : {2, 3}) {
+      const pb::Item& item = _replay.pallet.items[std::size_t(i)];
+      const pb::Item& above = _replay.pallet.items[std::size_t(i) + 1];
+      QCOMPARE(above.sku, item.sku);  // one SKU: without edges, one block
+      const pb::Pose& p = frame.items[std::size_t(i)];
+      auto onFront = [&](double z) {  // a point on the item's front (+X) face, z from its centre
+        const pb::Vec3 v = pb::rotate(p.quat, {item.dims_m[0] / 2.0, 0.0, z});
+        return view.project(toQt({p.pos[0] + v[0], p.pos[1] + v[1], p.pos[2] + v[2]}));
+      };
+      const QColor face = image.pixelColor(onFront(0.0).toPoint());
+      verifyShadeOf(image, onFront(0.0), ReplayView::skuColor(item.sku));
+      // The darkest pixel within 2 px of the projected top edge is far darker than the face (a
+      // line 1 px wide lands within a pixel of where it projects, blended where it covers part).
+      const QPoint edge = onFront(item.dims_m[2] / 2.0).toPoint();
+      int darkest = 255;
+      for (int dy = -2; dy <= 2; ++dy) {
+        darkest = std::min(darkest, image.pixelColor(edge + QPoint(0, dy)).value());
+      }
+      QVERIFY2(darkest <= face.value() * 6 / 10,
+               qPrintable(QStringLiteral("item %1: darkest %2 near its top edge, face %3")
+                              .arg(i)
+                              .arg(darkest)
+                              .arg(describe(face))));
+    }
+  }
+
   void followKeepsTheFailingItemCentred() {
     ReplayView view;
     view.resize(kSize);
