@@ -40,6 +40,7 @@ AnalysisService::AnalysisService(pb::AnalyzerOptions options, QObject* parent)
   _pool.setMaxThreadCount(1);
   _pool.setExpiryTimeout(-1);
   _analyzer->set_cancel(&_stopRunning);
+  _analyzer->set_progress([this](int done, int planned) { reportCount(done, planned); });
 }
 
 AnalysisService::~AnalysisService() {
@@ -65,6 +66,7 @@ RequestId AnalysisService::analyze(const pb::PalletConfig& config) {
   return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
     if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
     reportProgress(id, tr("Searching the safe envelope"));
+    _countExact = false;
     auto result = analyzer.analyze(config);
     if (!result) {
       QString message = describeFailure(tr("The analysis failed"), result.diagnostics);
@@ -78,6 +80,7 @@ RequestId AnalysisService::envelope(const pb::PalletConfig& config) {
   return submit([this, config](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
     if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
     reportProgress(id, tr("Searching the safe envelope"));
+    _countExact = false;
     auto result = analyzer.envelope(config);
     if (!result) {
       QString message = describeFailure(tr("The envelope search failed"), result.diagnostics);
@@ -145,6 +148,7 @@ RequestId AnalysisService::failureMap(const pb::PalletConfig& config,
       [this, config, options, key](pb::Analyzer& analyzer, RequestId id) -> std::function<void()> {
         if (auto failure = prepareOrFail(analyzer, id, config)) return failure;
         reportProgress(id, tr("Mapping speed against acceleration"));
+        _countExact = true;
         auto result = analyzer.failure_map(config, options);
         if (!result) {
           QString message = describeFailure(tr("The failure map failed"), result.diagnostics);
@@ -233,6 +237,35 @@ void AnalysisService::reportProgress(RequestId id, const QString& step) {
         if (_pending.contains(id)) emit progress(id, step);
       },
       Qt::QueuedConnection);
+}
+
+void AnalysisService::reportCount(int done, int planned) {
+  RequestId id = 0;
+  {
+    std::lock_guard lock(_mutex);
+    id = _running;
+  }
+  if (id == 0) return;
+  const bool exact = _countExact.load();
+  QMetaObject::invokeMethod(
+      this,
+      [this, id, done, planned, exact] {
+        if (_pending.contains(id)) emit counted(id, done, planned, exact);
+      },
+      Qt::QueuedConnection);
+}
+
+QString progressText(const QString& step, int done, int planned, bool exact, double elapsed_s) {
+  QString text =
+      exact
+          ? AnalysisService::tr("%1: %2 of %3 simulations").arg(step).arg(done).arg(planned)
+          : AnalysisService::tr("%1: %2 of about %3 simulations").arg(step).arg(done).arg(planned);
+  if (done >= 2 && elapsed_s >= 0.5 && planned > done) {
+    const double left = elapsed_s / done * (planned - done);
+    text += left < 1.0 ? AnalysisService::tr(", less than a second left")
+                       : AnalysisService::tr(", about %1 s left").arg(qRound(left));
+  }
+  return text;
 }
 
 }  // namespace pb::ui

@@ -6,6 +6,7 @@
 #include <QObject>
 #include <QString>
 #include <QThreadPool>
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -67,6 +68,9 @@ class AnalysisService : public QObject {
  signals:
   /// The worker moved on to `step` ("Compiling and settling the pallet", ...).
   void progress(pb::ui::RequestId id, const QString& step);
+  /// Simulations of the running request that have ended, of those planned: `exact` for a failure
+  /// map (its cells), an estimate for a search (pb::Analyzer::set_progress).
+  void counted(pb::ui::RequestId id, int done, int planned, bool exact);
   void analyzed(pb::ui::RequestId id, const pb::SafetyResult& result);
   void envelopeReady(pb::ui::RequestId id, const pb::ui::EnvelopePtr& envelope);
   void solved(pb::ui::RequestId id, const pb::ui::SolvePtr& solve);
@@ -83,6 +87,8 @@ class AnalysisService : public QObject {
   /// Runs on the GUI thread: emits the request's end unless it was cancelled meanwhile.
   void finish(RequestId id, const std::function<void()>& emitResult);
   void reportProgress(RequestId id, const QString& step);
+  /// From the threads that run simulations: queues counted() for the running request.
+  void reportCount(int done, int planned);
   /// Compiles and settles the pallet (cached by the analyzer): empty if it can be simulated,
   /// otherwise what delivers the failure.
   std::function<void()> prepareOrFail(pb::Analyzer& analyzer, RequestId id,
@@ -93,11 +99,17 @@ class AnalysisService : public QObject {
   std::set<RequestId> _cancelled;
   RequestId _running = 0;                      ///< the request the worker runs now (0: none)
   pb::CancelFlag _stopRunning{false};          ///< set to stop it; the analyzer's runs check it
+  std::atomic<bool> _countExact{false};        ///< the running request's plan is exact (a map)
   std::set<RequestId> _pending;                ///< GUI thread only
   std::map<std::string, FailureMapPtr> _maps;  ///< GUI thread only: by pallet and grid
   RequestId _nextId = 1;
   QThreadPool _pool;  ///< declared last: destroyed (and drained) first
 };
+
+/// The status line for a running request: "Searching the safe envelope: 5 of about 12
+/// simulations, about 3 s left" (the time left once two simulations have ended and half a second
+/// has passed: their pace so far times what is left).
+QString progressText(const QString& step, int done, int planned, bool exact, double elapsed_s);
 
 }  // namespace pb::ui
 

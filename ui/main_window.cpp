@@ -165,8 +165,18 @@ MainWindow::MainWindow(QWidget* parent)
 MainWindow::~MainWindow() = default;
 
 void MainWindow::wireAnalysis() {
-  connect(_service, &AnalysisService::progress, this,
-          [this](RequestId, const QString& step) { showStatus(step + QStringLiteral("\u2026")); });
+  connect(_service, &AnalysisService::progress, this, [this](RequestId, const QString& step) {
+    _step = step;
+    _stepClock.restart();
+    showStatus(step + QStringLiteral("\u2026"));
+  });
+  connect(
+      _service, &AnalysisService::counted, this,
+      [this](RequestId, int done, int planned, bool exact) {
+        const double elapsed =
+            _stepClock.isValid() ? static_cast<double>(_stepClock.elapsed()) / 1000.0 : 0.0;
+        showStatus(progressText(_step, done, planned, exact, elapsed) + QStringLiteral("\u2026"));
+      });
   connect(_service, &AnalysisService::analyzed, this,
           [this](RequestId id, const pb::SafetyResult& result) {
             _results->setResult(result);

@@ -4,6 +4,7 @@
 // replay with its controls over the trace plots (centre), the friction chart (bottom right).
 #pragma once
 
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <memory>
 #include <optional>
@@ -96,6 +97,8 @@ class MainWindow : public QMainWindow {
   QString _cancelReason;  ///< why requests are being cancelled, while they are
   bool _solveDone = true, _analyzeDone = true, _dispatchOk = true;
   QString _dispatchMessage;
+  QString _step;             ///< what the service is doing (its last progress step)
+  QElapsedTimer _stepClock;  ///< since that step began
 };
 
 }  // namespace pb::ui

@@ -155,6 +155,10 @@ std::unique_ptr<PlaneModel> Analyzer::plane_model(const PalletConfig& config, Pr
   return model;
 }
 
+void Analyzer::set_progress(ProgressCounter::Callback callback) {
+  progress_ = std::move(callback);
+}
+
 void Analyzer::set_cancel(const CancelFlag* flag) {
   options_.sim.cancel = flag;
   options_.settle.cancel = flag;
@@ -202,8 +206,12 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     const PlaneModel* m = p.planes[plane].get();
     return m ? ProbeModel{m->simulator.get(), &m->rest} : ProbeModel{p.simulator.get(), &p.rest};
   };
-  auto env = search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search,
-                             options_.sim);
+  ProgressCounter counter(progress_);
+  SimOptions sim = options_.sim;
+  if (progress_) sim.progress = &counter;
+  auto env =
+      search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search, sim);
+  counter.settle();
   if (!env) {
     if (grow_buffers(p.fingerprint, env.diagnostics)) return envelope(config);
     return env;
@@ -232,7 +240,12 @@ Result<FailureMap> Analyzer::failure_map(const PalletConfig& config, const MapOp
   if (p.rest.cannot_stand) {
     return Result<FailureMap>::failure(cannot_stand_diagnostics(*p.rest.cannot_stand));
   }
-  return run_failure_map(*p.scene, p.rest, options, options_.line, options_.search, options_.sim);
+  ProgressCounter counter(progress_);
+  SimOptions sim = options_.sim;
+  if (progress_) sim.progress = &counter;
+  auto map = run_failure_map(*p.scene, p.rest, options, options_.line, options_.search, sim);
+  counter.settle();
+  return map;
 }
 
 Result<SafetyResult> Analyzer::analyze(const PalletConfig& config) {

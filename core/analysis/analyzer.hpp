@@ -118,6 +118,11 @@ class Analyzer {
   /// fails with a diagnostic whose message contains "cancelled" and caches nothing of its work.
   /// nullptr: runs are not cancellable. The flag must outlive the calls that use it.
   void set_cancel(const CancelFlag* flag);
+  /// Every later envelope and failure map reports its simulations to `callback` as they end,
+  /// from the threads that ran them (ProgressCounter: done of planned; planned exact for a map,
+  /// an estimate for a search, 4 a searched axis, raised as it runs past it; done == planned when
+  /// the call ends). An empty callback: no reports.
+  void set_progress(ProgressCounter::Callback callback);
   int cache_hits() const { return cache_hits_; }
   /// Pallets prepared and kept (each holds its compiled scene and simulation data).
   std::size_t cached_pallets() const { return prepared_.size(); }
@@ -144,6 +149,7 @@ class Analyzer {
                     SimOptions o, SimResult& verdict);
 
   AnalyzerOptions options_;
+  ProgressCounter::Callback progress_;
   const FrictionModel* friction_;
   std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;
   std::map<std::string, SafetyResult> results_;

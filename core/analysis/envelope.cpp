@@ -38,6 +38,7 @@ std::string_view to_string(Axis axis) {
 namespace {
 
 constexpr double kSettleLead = 0.05;  // s at steady speed before a stop or a curve begins
+constexpr int kProbesPerSearch = 4;   // what a search plans, for progress (an estimate)
 
 struct ProbeVerdict {
   bool failed = false;
@@ -606,6 +607,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       }
     }
     const SimResult& r = *ran;
+    if (o.progress != nullptr) o.progress->finished();
     if (r.outcome != Outcome::unstable) known[x] = verdict_of(r);
     out.probes.push_back(make_probe(t.axis, x, r));
     if (r.outcome == Outcome::unstable) {
@@ -741,6 +743,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       order.push_back(i);
     }
   }
+  // Progress: a search plans kProbesPerSearch (the curated and corpus searches take 3-5).
+  if (o.progress != nullptr) o.progress->plan(kProbesPerSearch * int(order.size()));
   const double data_bytes =
       std::max({1.0, along_model.simulator->data_bytes(), across_model.simulator->data_bytes()});
   const int fit = std::max(1, int(s.axis_memory_bytes / data_bytes));
@@ -816,6 +820,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       down.limit->probes = 0;
       down.limit->derived = true;
     } else {
+      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
       down = search(1);
     }
   }
@@ -827,6 +832,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       estop.limit->closed_form = tasks[3].closed_form;
       estop.limit->derived = true;
     } else {
+      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
       estop = search(3);
     }
   }

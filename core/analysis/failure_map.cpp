@@ -147,6 +147,7 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   profiles.reserve(jobs.size());
   for (const Job& job : jobs) profiles.push_back(job.profile);
   int threads = 0;
+  if (o.progress != nullptr) o.progress->plan(int(profiles.size()));
   auto sims = run_probes_batched(scene, rest, profiles, o, options.threads, {}, &threads);
   if (!sims) return Result<FailureMap>::failure(std::move(sims.diagnostics));
 

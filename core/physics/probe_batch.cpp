@@ -56,13 +56,16 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
       nstep = std::max(nstep, run.max_steps());
     }
   }
+  int stopped = 0;  // runs the engine stopped (not counted as they ended)
   if (!active.empty()) {
     StepHooks hooks;
     hooks.control = [&runs](int sim, const mjModel&, mjData& data) {
       runs[std::size_t(sim)]->before_step(data);
     };
-    hooks.observe = [&runs](int sim, const mjModel& model, const mjData& data) {
-      return runs[std::size_t(sim)]->after_step(model, data);
+    hooks.observe = [&runs, &o](int sim, const mjModel& model, const mjData& data) {
+      const bool more = runs[std::size_t(sim)]->after_step(model, data);
+      if (!more && o.progress != nullptr) o.progress->finished();
+      return more;
     };
     if (auto error = batch.value->step(Selection::of_ids(active), nstep, hooks)) {
       if (error->sim < 0) return Out::failure("", "the batch call failed: " + error->message);
@@ -74,15 +77,21 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
                                                      : error->message;
         }
         runs[std::size_t(sim)]->engine_error(why);
+        ++stopped;
       }
     }
   }
   std::vector<SimResult> out;
   out.reserve(runs.size());
+  int uncounted = int(runs.size()) - int(active.size()) + stopped;  // done before stepping, stopped
   for (auto& run : runs) {
-    if (!run->done()) run->engine_error("the batch call ended before the run did");
+    if (!run->done()) {
+      run->engine_error("the batch call ended before the run did");
+      ++uncounted;
+    }
     out.push_back(run->take_result());
   }
+  if (o.progress != nullptr && uncounted > 0) o.progress->finished(uncounted);
   return Out{std::move(out), {}};
 }
 

@@ -10,6 +10,7 @@
 
 #include "core/base/cancel.hpp"
 #include "core/base/diagnostic.hpp"
+#include "core/base/progress.hpp"
 #include "core/contract/conveyor_profile.hpp"
 #include "core/physics/detectors.hpp"
 #include "core/physics/engine.hpp"
@@ -92,6 +93,9 @@ struct SimOptions {
   /// As `cancel`, for this probe alone: set when its result is no longer wanted (a probe run ahead
   /// of a search, on the outcome that did not happen). Not owned.
   const CancelFlag* abandon = nullptr;
+  /// When set, the searches and batched runs given these options count their simulations on it
+  /// as they end (a search its path's probes; run_probes_batched every run). Not owned.
+  ProgressCounter* progress = nullptr;
 };
 
 struct SimResult {

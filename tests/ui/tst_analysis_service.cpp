@@ -104,13 +104,40 @@ class TestAnalysisService : public QObject {
     const pb::Scenario s = tower();
     AnalysisService service;
     QSignalSpy ready(&service, &AnalysisService::envelopeReady);
+    QSignalSpy counted(&service, &AnalysisService::counted);
     const RequestId id = service.envelope(s.pallet);
     QVERIFY(ready.wait(25000));
+    // Progress counted the search's simulations as they ended, for this request, an estimate
+    // (not exact), up to every one of them before the result.
+    QVERIFY(counted.size() >= 2);
+    for (const auto& c : counted) {
+      QCOMPARE(c.at(0).value<RequestId>(), id);
+      QVERIFY(c.at(1).toInt() <= c.at(2).toInt());
+      QCOMPARE(c.at(3).toBool(), false);
+    }
     QCOMPARE(ready.at(0).at(0).value<RequestId>(), id);
     const auto envelope = ready.at(0).at(1).value<pb::ui::EnvelopePtr>();
     QVERIFY(envelope);
     QCOMPARE(static_cast<int>(envelope->probes.size()), envelope->result.sims_run);
     QCOMPARE(envelope->accel.mode, pb::FailureMode::top_item_slide);
+    QCOMPARE(counted.last().at(1).toInt(), envelope->result.sims_run);
+    QCOMPARE(counted.last().at(2).toInt(), envelope->result.sims_run);
+  }
+
+  // The status line's words for a count: exact for a map, "about" for a search; the time left
+  // once two simulations have ended and half a second has passed.
+  void progressWords() {
+    const QString step = QStringLiteral("Mapping speed against acceleration");
+    QCOMPARE(pb::ui::progressText(step, 1, 150, true, 0.4),
+             QStringLiteral("Mapping speed against acceleration: 1 of 150 simulations"));
+    QCOMPARE(pb::ui::progressText(step, 50, 150, true, 5.0),
+             QStringLiteral("Mapping speed against acceleration: 50 of 150 simulations, about "
+                            "10 s left"));
+    QCOMPARE(pb::ui::progressText(QStringLiteral("Searching the safe envelope"), 6, 7, false, 1.2),
+             QStringLiteral("Searching the safe envelope: 6 of about 7 simulations, less than a "
+                            "second left"));
+    QCOMPARE(pb::ui::progressText(QStringLiteral("Searching the safe envelope"), 7, 7, false, 1.2),
+             QStringLiteral("Searching the safe envelope: 7 of about 7 simulations"));
   }
 
   void invalidPalletIsAMessage() {

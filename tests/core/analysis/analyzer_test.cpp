@@ -5,6 +5,7 @@
 #include "core/analysis/analyzer.hpp"
 
 #include <QtTest>
+#include <mutex>
 
 #include "core/contract/fingerprint.hpp"
 #include "core/contract/json_io.hpp"
@@ -188,6 +189,33 @@ class AnalyzerTest : public QObject {
     QVERIFY(p.aftermath_scene != nullptr);
     QVERIFY(p.aftermath_scene->mjcf.find("contype=\"1\"") != std::string::npos);
     QVERIFY(p.scene->mjcf.find("contype=\"1\"") == std::string::npos);  // searches: pairs only
+  }
+
+  // Progress: an envelope reports each probe as it ends, from its axis threads, and ends with done
+  // == planned == its simulations; a failure map plans its cells exactly from the first report.
+  void progressCountsTheSimulations() {
+    Analyzer analyzer({}, friction());
+    std::mutex m;
+    std::vector<std::pair<int, int>> seen;
+    analyzer.set_progress([&](int done, int planned) {
+      std::lock_guard lock(m);
+      seen.emplace_back(done, planned);
+    });
+    const auto env = analyzer.envelope(column());
+    QVERIFY(env);
+    QVERIFY(!seen.empty());
+    QCOMPARE(seen.front().first, 0);  // the plan comes first
+    QVERIFY(seen.front().second >= 4);
+    for (const auto& [done, planned] : seen) QVERIFY(done <= planned);
+    QCOMPARE(seen.back(), std::make_pair(env->result.sims_run, env->result.sims_run));
+    seen.clear();
+    const auto map =
+        analyzer.failure_map(column(), {.speeds_mps = {0.5, 1.0}, .accels_mps2 = {1.0, 2.0, 3.0}});
+    QVERIFY(map);
+    const int cells = 2 * 3 + 2 * 2;  // every start-up cell, a curve and an e-stop per speed
+    QCOMPARE(seen.front(), std::make_pair(0, cells));
+    QCOMPARE(seen.back(), std::make_pair(cells, cells));
+    for (const auto& [done, planned] : seen) QCOMPARE(planned, cells);
   }
 
   // A cancelled call ends without a verdict and caches nothing: the settle at its next check, a
