@@ -4,9 +4,11 @@
 #include <QAreaSeries>
 #include <QChart>
 #include <QChartView>
+#include <QLabel>
 #include <QLegendMarker>
 #include <QLineSeries>
 #include <QScatterSeries>
+#include <QTextDocument>
 #include <QVBoxLayout>
 #include <QValueAxis>
 #include <algorithm>
@@ -24,18 +26,28 @@ constexpr double kMuAxisMax = 1.0;
 const std::array<QColor, 3> kPairColors{QColor(31, 119, 180), QColor(214, 39, 40),
                                         QColor(44, 160, 44)};
 
+// A pair in words: "carton/wood_pallet" is "carton on wood pallet".
 QString label(const std::string& key) {
-  return QString::fromStdString(key);
+  QString words = QString::fromStdString(key);
+  words.replace(QLatin1Char('_'), QLatin1Char(' '));
+  words.replace(QLatin1Char('/'), QStringLiteral(" on "));
+  return words;
 }
 
 }  // namespace
 
 FrictionChart::FrictionChart(QWidget* parent, const FrictionModel& model)
     : QWidget(parent), _model(&model), _chart(new QChart) {
-  _chart->setTitle(
-      tr("Static friction μ against temperature (dashed: with the frost-melt "
-         "penalty; dots: the pallet now)"));
-  _chart->legend()->setAlignment(Qt::AlignBottom);
+  // Title and legend are labels that wrap (the chart's own elided them at a dock's width).
+  _caption = new QLabel(
+      tr("Static friction μ against temperature (dashed: with the frost-melt penalty; dots: the "
+         "pallet now)"),
+      this);
+  _caption->setWordWrap(true);
+  _legend = new QLabel(this);
+  _legend->setWordWrap(true);
+  _legend->setTextFormat(Qt::RichText);
+  _chart->legend()->hide();
   _chart->setMargins(QMargins(4, 4, 4, 4));
   _axisX = new QValueAxis;
   _axisX->setRange(kMinTempC, kMaxTempC);
@@ -78,7 +90,10 @@ FrictionChart::FrictionChart(QWidget* parent, const FrictionModel& model)
   _view->setRenderHint(QPainter::Antialiasing);
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
-  layout->addWidget(_view);
+  layout->setSpacing(2);
+  layout->addWidget(_caption);
+  layout->addWidget(_view, 1);
+  layout->addWidget(_legend);
   setMinimumSize(360, 260);
 }
 
@@ -100,7 +115,8 @@ void FrictionChart::setPallet(const PalletConfig& config) {
     _pairs.clear();
     _keys.clear();
     _tempLine->clear();
-    _chart->setTitle(tr("No friction curves: %1").arg(_error));
+    _caption->setText(tr("No friction curves: %1").arg(_error));
+    _legend->clear();
     return;
   }
   _error.clear();
@@ -110,10 +126,28 @@ void FrictionChart::setPallet(const PalletConfig& config) {
     rebuild(cf, config.seconds_since_temp_change);
   }
   moveMarkers(config.body_temp_c, config.seconds_since_temp_change);
-  _chart->setTitle(tr("μ against temperature · dashed: frost-melt, %1 s after the change · "
-                      "dots: now, %2")
-                       .arg(config.seconds_since_temp_change, 0, 'f', 0)
-                       .arg(QString::fromStdString(format_temperature(config.body_temp_c))));
+  _caption->setText(tr("Static friction μ against temperature · dashed: with the frost-melt "
+                       "penalty, %1 s after the change · dots: now, %2")
+                        .arg(config.seconds_since_temp_change, 0, 'f', 0)
+                        .arg(QString::fromStdString(format_temperature(config.body_temp_c))));
+  QStringList entries;
+  for (std::size_t i = 0; i < _pairs.size(); ++i) {
+    entries << QStringLiteral("<span style=\"color:%1\">&#9632;</span>&nbsp;%2")
+                   .arg(_pairs[i].steady->pen().color().name(),
+                        label(_pairs[i].key).toHtmlEscaped());
+  }
+  entries << tr("<span style=\"color:#78b4ff\">&#9632;</span>&nbsp;frost-melt band");
+  _legend->setText(entries.join(QStringLiteral(" &nbsp; ")));
+}
+
+QString FrictionChart::caption() const {
+  return _caption->text();
+}
+
+QString FrictionChart::legendText() const {
+  QTextDocument doc;
+  doc.setHtml(_legend->text());
+  return doc.toPlainText();
 }
 
 void FrictionChart::rebuild(const ContactFriction& cf, double seconds) {

@@ -16,6 +16,7 @@
 #include "core/inputs/friction.hpp"
 
 class QChart;
+class QLabel;
 class QChartView;
 class QLineSeries;
 class QScatterSeries;
@@ -48,6 +49,10 @@ class FrictionChart : public QWidget {
   QAreaSeries* frostBand() const { return _band; }
   QLineSeries* temperatureLine() const { return _tempLine; }
   QChart* chart() const { return _chart; }
+  /// The words above the chart (what it shows, or why there is nothing) and the legend under it,
+  /// both wrapped to the panel's width: the chart's own title and legend elided them ("wood_...").
+  QString caption() const;
+  QString legendText() const;
   /// The message shown instead of curves when the pallet's pairs are unknown (empty otherwise).
   QString error() const { return _error; }
 
@@ -62,6 +67,8 @@ class FrictionChart : public QWidget {
   const pb::FrictionModel* _model;
   QChart* _chart;
   QChartView* _view;
+  QLabel* _caption;
+  QLabel* _legend;
   QValueAxis* _axisX;
   QValueAxis* _axisY;
   QAreaSeries* _band = nullptr;

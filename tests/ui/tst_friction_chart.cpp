@@ -41,6 +41,12 @@ class TestFrictionChart : public QObject {
     QCOMPARE(chart.pairs()[0].key, cf->belt_pallet_key);
     QCOMPARE(chart.pairs()[1].key, cf->item_pallet_key);
     QCOMPARE(chart.pairs()[2].key, cf->item_item_key);
+    // The legend names each pair in words (no identifiers), and the band; the caption says when.
+    QVERIFY2(chart.legendText().contains(QStringLiteral("carton on carton")),
+             qPrintable(chart.legendText()));
+    QVERIFY(chart.legendText().contains(QStringLiteral("frost-melt band")));
+    QVERIFY(!chart.legendText().contains(QLatin1Char('_')));
+    QVERIFY(chart.caption().startsWith(QStringLiteral("Static friction")));
     // Band + temperature line + three series per pair.
     QCOMPARE(chart.chart()->series().size(), 2 + 3 * 3);
     const int n = static_cast<int>((FrictionChart::kMaxTempC - FrictionChart::kMinTempC) /
@@ -110,6 +116,7 @@ class TestFrictionChart : public QObject {
     chart.setPallet(frozen());
     chart.setPallet(config);
     QVERIFY(!chart.error().isEmpty());
+    QVERIFY(chart.caption().startsWith(QStringLiteral("No friction curves: ")));
     QVERIFY(chart.pairs().empty());
     QCOMPARE(chart.chart()->series().size(), 2);  // the band and the (empty) temperature line
     chart.setPallet(frozen());                    // and it recovers

@@ -6,7 +6,12 @@
 // the trace plots holding one point per frame. The headless screenshot path (ScreenshotRunner,
 // what `palletballet --screenshot` runs) writes its PNG. Every PNG is kept as an artifact.
 #include <QDir>
+#include <QDockWidget>
+#include <QGraphicsSimpleTextItem>
+#include <QGraphicsTextItem>
+#include <QGraphicsView>
 #include <QImage>
+#include <QLabel>
 #include <QSignalSpy>
 #include <QTemporaryDir>
 #include <QTest>
@@ -14,6 +19,7 @@
 
 #include "core/inputs/scenario.hpp"
 #include "ui/console_screenshot.hpp"
+#include "ui/friction_chart.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"
 #include "ui/replay_player.hpp"
@@ -29,6 +35,39 @@ constexpr QSize kWindow(1400, 900);
 
 QVector3D toQt(const pb::Vec3& v) {
   return QVector3D(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
+}
+
+// Text a person cannot read whole in the window as shown: a chart's text item Qt elided ("..."),
+// and a one-line label whose text is wider than its box (measured with its font).
+QStringList cutTexts(QWidget* root) {
+  QStringList cut;
+  for (QGraphicsView* view : root->findChildren<QGraphicsView*>()) {
+    if (!view->isVisible() || view->scene() == nullptr) continue;
+    for (QGraphicsItem* item : view->scene()->items()) {
+      QString text;
+      if (auto* t = dynamic_cast<QGraphicsTextItem*>(item)) text = t->toPlainText();
+      if (auto* t = dynamic_cast<QGraphicsSimpleTextItem*>(item)) text = t->text();
+      if (item->isVisible() &&
+          (text.contains(QChar(0x2026)) || text.endsWith(QStringLiteral("..."))))
+        cut << QStringLiteral("%1: '%2'")
+                   .arg(QString::fromLatin1(view->metaObject()->className()), text);
+    }
+  }
+  for (QLabel* label : root->findChildren<QLabel*>()) {
+    if (!label->isVisible() || label->wordWrap() || label->text().isEmpty() ||
+        label->textFormat() == Qt::RichText || label->text().contains(QLatin1Char('<')) ||
+        label->text().contains(QLatin1Char('\n')))
+      continue;
+    const int need = label->fontMetrics().horizontalAdvance(label->text());
+    if (need > label->contentsRect().width() + 1) {
+      cut << QStringLiteral("label %1 (%2 px for %3 px): '%4'")
+                 .arg(label->objectName())
+                 .arg(need)
+                 .arg(label->contentsRect().width())
+                 .arg(label->text());
+    }
+  }
+  return cut;
 }
 
 int hueDistance(const QColor& a, const QColor& b) {
@@ -193,6 +232,20 @@ class TestGlConsole : public QObject {
     QCOMPARE(finish(runner), 0);
     const QImage image(out);
     QCOMPARE(image.size(), request.size);
+    if (view == QStringLiteral("window")) {
+      QStringList cut = cutTexts(&window);
+      // And the friction chart, which shares its dock's place with the results: brought forward.
+      for (QWidget* w = window.frictionChart(); w != nullptr; w = w->parentWidget()) {
+        if (auto* dock = qobject_cast<QDockWidget*>(w)) {
+          dock->raise();
+          break;
+        }
+      }
+      QTest::qWait(50);
+      QVERIFY(window.frictionChart()->isVisible());
+      cut << cutTexts(window.frictionChart());
+      QVERIFY2(cut.isEmpty(), qPrintable(cut.join(QStringLiteral(" | "))));
+    }
   }
 
   void badArgumentsNameTheOption() {
