@@ -26,6 +26,8 @@ QString describeFailure(const QString& what, const pb::Diagnostics& diagnostics)
 void registerMetaTypes() {
   qRegisterMetaType<pb::ui::RequestId>("pb::ui::RequestId");
   qRegisterMetaType<pb::SafetyResult>();
+  qRegisterMetaType<pb::Axis>();
+  qRegisterMetaType<pb::AxisLimit>();
   qRegisterMetaType<pb::ui::SolvePtr>();
   qRegisterMetaType<pb::ui::EnvelopePtr>();
   qRegisterMetaType<pb::ui::FailureMapPtr>();
@@ -41,6 +43,8 @@ AnalysisService::AnalysisService(pb::AnalyzerOptions options, QObject* parent)
   _pool.setExpiryTimeout(-1);
   _analyzer->set_cancel(&_stopRunning);
   _analyzer->set_progress([this](int done, int planned) { reportCount(done, planned); });
+  _analyzer->set_axis_found(
+      [this](pb::Axis axis, const pb::AxisLimit& limit) { reportAxis(axis, limit); });
 }
 
 AnalysisService::~AnalysisService() {
@@ -251,6 +255,21 @@ void AnalysisService::reportCount(int done, int planned) {
       this,
       [this, id, done, planned, exact] {
         if (_pending.contains(id)) emit counted(id, done, planned, exact);
+      },
+      Qt::QueuedConnection);
+}
+
+void AnalysisService::reportAxis(pb::Axis axis, const pb::AxisLimit& limit) {
+  RequestId id = 0;
+  {
+    std::lock_guard lock(_mutex);
+    id = _running;
+  }
+  if (id == 0) return;
+  QMetaObject::invokeMethod(
+      this,
+      [this, id, axis, limit] {
+        if (_pending.contains(id)) emit axisFound(id, axis, limit);
       },
       Qt::QueuedConnection);
 }

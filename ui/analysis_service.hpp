@@ -71,6 +71,9 @@ class AnalysisService : public QObject {
   /// Simulations of the running request that have ended, of those planned: `exact` for a failure
   /// map (its cells), an estimate for a search (pb::Analyzer::set_progress).
   void counted(pb::ui::RequestId id, int done, int planned, bool exact);
+  /// One limit of the running request's envelope search (start-up, stop or curve), as soon as its
+  /// search ended: before analyzed() or envelopeReady() (pb::Analyzer::set_axis_found).
+  void axisFound(pb::ui::RequestId id, pb::Axis axis, const pb::AxisLimit& limit);
   void analyzed(pb::ui::RequestId id, const pb::SafetyResult& result);
   void envelopeReady(pb::ui::RequestId id, const pb::ui::EnvelopePtr& envelope);
   void solved(pb::ui::RequestId id, const pb::ui::SolvePtr& solve);
@@ -89,6 +92,8 @@ class AnalysisService : public QObject {
   void reportProgress(RequestId id, const QString& step);
   /// From the threads that run simulations: queues counted() for the running request.
   void reportCount(int done, int planned);
+  /// From the axis threads: queues axisFound() for the running request.
+  void reportAxis(pb::Axis axis, const pb::AxisLimit& limit);
   /// Compiles and settles the pallet (cached by the analyzer): empty if it can be simulated,
   /// otherwise what delivers the failure.
   std::function<void()> prepareOrFail(pb::Analyzer& analyzer, RequestId id,
@@ -114,6 +119,8 @@ QString progressText(const QString& step, int done, int planned, bool exact, dou
 }  // namespace pb::ui
 
 Q_DECLARE_METATYPE(pb::SafetyResult)
+Q_DECLARE_METATYPE(pb::Axis)
+Q_DECLARE_METATYPE(pb::AxisLimit)
 Q_DECLARE_METATYPE(pb::ui::SolvePtr)
 Q_DECLARE_METATYPE(pb::ui::EnvelopePtr)
 Q_DECLARE_METATYPE(pb::ui::FailureMapPtr)

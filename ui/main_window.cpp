@@ -170,6 +170,10 @@ void MainWindow::wireAnalysis() {
     _stepClock.restart();
     showStatus(step + QStringLiteral("\u2026"));
   });
+  connect(_service, &AnalysisService::axisFound, this,
+          [this](RequestId id, pb::Axis axis, const pb::AxisLimit& limit) {
+            if (id == _analyzeId) _results->setAxisFound(axis, limit);
+          });
   connect(
       _service, &AnalysisService::counted, this,
       [this](RequestId, int done, int planned, bool exact) {

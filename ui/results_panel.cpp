@@ -98,12 +98,59 @@ void ResultsPanel::showError(const QString& message) {
 }
 
 void ResultsPanel::setProvisional(const SafetyResult& estimate) {
-  setResult(estimate);
+  _estimate = estimate;
+  _simulated.clear();
+  showProvisional();
+}
+
+void ResultsPanel::setAxisFound(Axis axis, const AxisLimit& limit) {
+  if (!_provisional) return;
+  switch (axis) {
+    case Axis::accel:
+      _estimate.max_accel_mps2 = limit.limit;
+      _estimate.accel_mode = limit.mode;
+      break;
+    case Axis::decel:
+      _estimate.max_decel_mps2 = limit.limit;
+      _estimate.decel_mode = limit.mode;
+      break;
+    case Axis::lateral:
+      _estimate.max_lateral_g = limit.limit;
+      _estimate.lateral_mode = limit.mode;
+      break;
+    case Axis::speed:
+      return;  // the speed combines the e-stop and the curve: it waits for the analysis
+  }
+  _simulated.insert(axis);
+  showProvisional();
+}
+
+void ResultsPanel::showProvisional() {
+  setResult(_estimate);
   _provisional = true;
-  _limits->setText(tr("<i>Provisional: the closed-form estimate, before any simulation (for loads "
-                      "whose cartons can move it can be a few tenths off either way); the "
-                      "analysis replaces it.</i><br>") +
-                   _limits->text());
+  const SafetyResult& r = _estimate;
+  if (r.verdict == "reject" || r.dominant_failure_mode == FailureMode::cannot_stand) {
+    _limits->setText(tr("<i>Provisional: the closed-form estimate, before any simulation; the "
+                        "analysis replaces it.</i><br>") +
+                     _limits->text());
+    return;
+  }
+  // Each limit simulated so far in bold, the others marked as the estimate.
+  const auto value = [&](Axis axis, double v, int decimals, const QString& unit) {
+    const QString n = num(v, decimals) + QStringLiteral(" ") + unit;
+    return _simulated.contains(axis) ? QStringLiteral("<b>%1</b>").arg(n)
+                                     : QStringLiteral("<i>\u2248%1</i>").arg(n);
+  };
+  _limits->setText(
+      tr("<i>Provisional: %1 of 3 limits simulated so far (bold); \u2248 marks the closed-form "
+         "estimate (for loads whose cartons can move it can be a few tenths off either way), "
+         "which the analysis replaces.</i><br>Speed up to %2 · start-up up to %3 · stops up to "
+         "%4 · curves up to %5")
+          .arg(static_cast<int>(_simulated.size()))
+          .arg(value(Axis::speed, r.max_speed_mps, 2, tr("m/s")),
+               value(Axis::accel, r.max_accel_mps2, 1, tr("m/s²")),
+               value(Axis::decel, r.max_decel_mps2, 1, tr("m/s²")),
+               value(Axis::lateral, r.max_lateral_g, 2, tr("g"))));
 }
 
 void ResultsPanel::setResult(const SafetyResult& r) {

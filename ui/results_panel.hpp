@@ -14,7 +14,9 @@
 
 #include <QString>
 #include <QWidget>
+#include <set>
 
+#include "core/analysis/envelope.hpp"
 #include "core/analysis/replay.hpp"
 #include "core/contract/safety_result.hpp"
 
@@ -43,6 +45,9 @@ class ResultsPanel : public QWidget {
   /// The closed-form estimate, known within a millisecond (fidelity closed_form: no simulation),
   /// shown at once and marked provisional until setResult() replaces it with the analysis.
   void setProvisional(const pb::SafetyResult& estimate);
+  /// One simulated limit while the estimate is shown: it replaces that axis's estimate (start-up,
+  /// stop or curve; the speed waits for the analysis). Ignored once the analysis is shown.
+  void setAxisFound(pb::Axis axis, const pb::AxisLimit& limit);
   /// Explains the dispatch the replay recorded ("top item slid: needs mu 0.41, has 0.32 at -22 C").
   void setReplay(const pb::Replay& replay);
   void setDialledPoint(double speed_mps, double accel_mps2);
@@ -57,6 +62,10 @@ class ResultsPanel : public QWidget {
   QLabel* _dispatch;
   FailureMapView* _map;
   bool _provisional = false;
+  pb::SafetyResult _estimate;  ///< while provisional: the estimate, with the axes simulated so far
+  std::set<pb::Axis> _simulated;
+  /// Shows _estimate marked provisional, each limit as estimated or simulated.
+  void showProvisional();
 };
 
 }  // namespace pb::ui

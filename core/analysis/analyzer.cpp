@@ -159,6 +159,10 @@ void Analyzer::set_progress(ProgressCounter::Callback callback) {
   progress_ = std::move(callback);
 }
 
+void Analyzer::set_axis_found(AxisFound found) {
+  axis_found_ = std::move(found);
+}
+
 void Analyzer::set_cancel(const CancelFlag* flag) {
   options_.sim.cancel = flag;
   options_.settle.cancel = flag;
@@ -209,8 +213,8 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   ProgressCounter counter(progress_);
   SimOptions sim = options_.sim;
   if (progress_) sim.progress = &counter;
-  auto env =
-      search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search, sim);
+  auto env = search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search,
+                             sim, axis_found_);
   counter.settle();
   if (!env) {
     if (grow_buffers(p.fingerprint, env.diagnostics)) return envelope(config);

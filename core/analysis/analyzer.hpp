@@ -123,6 +123,9 @@ class Analyzer {
   /// an estimate for a search, 4 a searched axis, raised as it runs past it; done == planned when
   /// the call ends). An empty callback: no reports.
   void set_progress(ProgressCounter::Callback callback);
+  /// Every later envelope search tells `found` each start-up, stop and curve limit as soon as its
+  /// search ends (search_envelope), from the thread that searched it. Empty: nothing is told.
+  void set_axis_found(AxisFound found);
   int cache_hits() const { return cache_hits_; }
   /// Pallets prepared and kept (each holds its compiled scene and simulation data).
   std::size_t cached_pallets() const { return prepared_.size(); }
@@ -150,6 +153,7 @@ class Analyzer {
 
   AnalyzerOptions options_;
   ProgressCounter::Callback progress_;
+  AxisFound axis_found_;
   const FrictionModel* friction_;
   std::map<std::string, std::unique_ptr<PreparedPallet>> prepared_;
   std::map<std::string, SafetyResult> results_;

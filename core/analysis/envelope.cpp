@@ -663,7 +663,7 @@ Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
 Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel& across_model,
                                  const PalletConfig& config, const QuasiStaticBounds& bounds,
                                  const LineDescription& line, const SearchConfig& s,
-                                 const SimOptions& sim_options) {
+                                 const SimOptions& sim_options, const AxisFound& found) {
   const auto start = std::chrono::steady_clock::now();
   Envelope env;
   env.rest = *along_model.rest;
@@ -758,11 +758,17 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 && cores.simulators.load() > 0
           ? &cores
           : nullptr;
+  // Tells `found` of a start-up, stop or curve limit as soon as it is known.
+  auto tell = [&](Axis axis, const AxisOutcome& a) {
+    if (found && a.limit && axis != Axis::speed) found(axis, *a.limit);
+  };
   // Runs axis task i on its plane's model (on the model's own simulator), after the others.
   auto search = [&](std::size_t i) {
     const ProbeModel m = model_of(tasks[i].axis);
-    return search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k, ahead,
-                       s.speculate_after_ms);
+    AxisOutcome a = search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k,
+                                ahead, s.speculate_after_ms);
+    tell(tasks[i].axis, a);
+    return a;
   };
   if (threads <= 1) {
     for (std::size_t i : order) {
@@ -796,6 +802,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
           const ProbeModel m = model_of(tasks[i].axis);
           outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
                                     s.seed_with_closed_form, k, ahead, s.speculate_after_ms);
+          tell(tasks[i].axis, outcomes[i]);
         } catch (const std::exception& e) {
           outcomes[i] = {};
           outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
@@ -819,6 +826,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       down.limit->closed_form = tasks[1].closed_form;
       down.limit->probes = 0;
       down.limit->derived = true;
+      tell(Axis::decel, down);
     } else {
       if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
       down = search(1);

@@ -176,10 +176,14 @@ struct ProbeModel {
 /// The same search with the probes along the belt (start-up, stop, e-stop speed) on `along` and
 /// the curve's on `across`: a load with symmetric copies is simulated on a reduced model per plane
 /// (symmetry.hpp). `bounds` and the mirror test are those of `config`, the whole load.
+/// `found`, if given, hears each of the start-up, stop and curve limits as soon as its search
+/// ends (or it is derived), from the thread that searched it, before the envelope is complete (the
+/// console replaces its provisional estimate axis by axis).
+using AxisFound = std::function<void(Axis axis, const AxisLimit& limit)>;
 Result<Envelope> search_envelope(const ProbeModel& along, const ProbeModel& across,
                                  const PalletConfig& config, const QuasiStaticBounds& bounds,
                                  const LineDescription& line, const SearchConfig& search,
-                                 const SimOptions& sim);
+                                 const SimOptions& sim, const AxisFound& found = {});
 
 /// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
 /// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance

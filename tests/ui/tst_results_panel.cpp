@@ -49,6 +49,38 @@ class TestResultsPanel : public QObject {
   }
 
   // A load that cannot stand: a build defect, no limit and no speed anywhere on the panel.
+  // The provisional estimate is replaced limit by limit as each search ends: the simulated ones in
+  // bold, the others marked as the estimate; the speed waits for the analysis, which ends it.
+  void provisionalLimitsAreReplacedOneByOne() {
+    ResultsPanel panel;
+    SafetyResult estimate = okResult();
+    estimate.max_accel_mps2 = 3.2;
+    estimate.max_lateral_g = 0.33;
+    panel.setProvisional(estimate);
+    QVERIFY(panel.isProvisional());
+    QVERIFY2(panel.limitsText().contains(QStringLiteral("0 of 3 limits simulated")),
+             qPrintable(panel.limitsText()));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("<i>\u22483.2 m/s\u00b2</i>")));
+    AxisLimit curve;
+    curve.limit = 0.25;
+    curve.mode = FailureMode::top_item_slide;
+    panel.setAxisFound(Axis::lateral, curve);
+    QVERIFY(panel.isProvisional());
+    QVERIFY2(panel.limitsText().contains(QStringLiteral("1 of 3 limits simulated")),
+             qPrintable(panel.limitsText()));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("curves up to <b>0.25 g</b>")));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("<i>\u22483.2 m/s\u00b2</i>")));
+    AxisLimit speed;
+    speed.limit = 0.5;
+    panel.setAxisFound(Axis::speed, speed);  // waits for the analysis
+    QVERIFY(panel.limitsText().contains(QStringLiteral("1 of 3 limits simulated")));
+    panel.setResult(okResult());  // the analysis
+    QVERIFY(!panel.isProvisional());
+    QVERIFY(!panel.limitsText().contains(QStringLiteral("Provisional")));
+    panel.setAxisFound(Axis::accel, curve);  // late: ignored once the analysis is shown
+    QVERIFY(!panel.limitsText().contains(QStringLiteral("Provisional")));
+  }
+
   void buildDefectShowsNoLimits() {
     ResultsPanel panel;
     SafetyResult r;

@@ -5,6 +5,7 @@
 #include "core/analysis/analyzer.hpp"
 
 #include <QtTest>
+#include <map>
 #include <mutex>
 
 #include "core/contract/fingerprint.hpp"
@@ -191,12 +192,18 @@ class AnalyzerTest : public QObject {
     QVERIFY(p.scene->mjcf.find("contype=\"1\"") == std::string::npos);  // searches: pairs only
   }
 
-  // Progress: an envelope reports each probe as it ends, from its axis threads, and ends with done
-  // == planned == its simulations; a failure map plans its cells exactly from the first report.
+  // Progress: an envelope reports each probe as it ends, and each limit as it is found, from its
+  // axis threads; it ends with done == planned == its simulations. A failure map plans its cells
+  // exactly from the first report.
   void progressCountsTheSimulations() {
     Analyzer analyzer({}, friction());
     std::mutex m;
     std::vector<std::pair<int, int>> seen;
+    std::map<Axis, AxisLimit> found;
+    analyzer.set_axis_found([&](Axis axis, const AxisLimit& limit) {
+      std::lock_guard lock(m);
+      QVERIFY(found.emplace(axis, limit).second);  // each axis once
+    });
     analyzer.set_progress([&](int done, int planned) {
       std::lock_guard lock(m);
       seen.emplace_back(done, planned);
@@ -208,6 +215,12 @@ class AnalyzerTest : public QObject {
     QVERIFY(seen.front().second >= 4);
     for (const auto& [done, planned] : seen) QVERIFY(done <= planned);
     QCOMPARE(seen.back(), std::make_pair(env->result.sims_run, env->result.sims_run));
+    // Each of the start-up, stop and curve limits was told before the envelope ended, as found.
+    QCOMPARE(found.size(), std::size_t(3));
+    QCOMPARE(found.at(Axis::accel).limit, env->accel.limit);
+    QCOMPARE(found.at(Axis::decel).limit, env->decel.limit);
+    QCOMPARE(found.at(Axis::lateral).limit, env->lateral.limit);
+    QCOMPARE(found.at(Axis::lateral).mode, env->lateral.mode);
     seen.clear();
     const auto map =
         analyzer.failure_map(column(), {.speeds_mps = {0.5, 1.0}, .accels_mps2 = {1.0, 2.0, 3.0}});
