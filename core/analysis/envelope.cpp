@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
 namespace pb {
@@ -481,14 +482,20 @@ class Lookahead {
       o.abandon = &raw->abandon;
       const ConveyorProfile pr = profile(*y);
       ++cores_.busy;
-      raw->thread = std::thread([this, raw, o, pr] {
-        try {
-          raw->result = raw->sim->run(rest_, pr, o);
-        } catch (...) {  // the path runs it again if it needs it
-          raw->result.reset();
-        }
+      try {
+        raw->thread = std::thread([this, raw, o, pr] {
+          try {
+            raw->result = raw->sim->run(rest_, pr, o);
+          } catch (...) {  // the path runs it again if it needs it
+            raw->result.reset();
+          }
+          --cores_.busy;
+        });
+      } catch (const std::system_error&) {  // no thread to be had: the path runs it
         --cores_.busy;
-      });
+        idle_.push_back(std::move(f->sim));
+        return;
+      }
       flying_.emplace(*y, std::move(f));
     }
   }
