@@ -43,19 +43,19 @@ struct SearchConfig {
   /// brackets a limit probes its next k points a round, and the bracket is narrowed by k points of
   /// the bisection's own grid: the same limits and modes as k = 1 when failure is monotone (same
   /// doubles, bitwise the same probes), in fewer rounds (log_{k+1} instead of log2) with more
-  /// simulations. Measured on 2 cores: ~10 % less wall time at k = 2 for ~25 % more CPU, so the
-  /// default stays serial (and batch studies, which already fill every core, keep 1).
+  /// simulations. On 2 cores it saved little wall time for much more CPU (core/README.md,
+  /// "k-section"), so the default stays serial (and batch studies, which fill every core, keep 1).
   int parallel_probes = 1;
   /// Threads that search the four axes (start-up, stop, curve, e-stop speed) side by side, each on
   /// its own mjData; 0 = one per axis, 1 = one axis after another. The same probes and limits
   /// either way (each probe loads the whole rest state); the wall time drops towards that of the
   /// slowest axis. One per axis even on 2 cores: the axes' costs are uneven, and the scheduler
-  /// balances four threads better than a queue does two (tall-unwrapped-tower: 6.6 s serial, 4.4 s
-  /// on 2 threads, 3.8 s on 4). Batch studies, which fill every core with pallets, use 1.
+  /// balances four threads better than a queue does two (core/README.md, "Axes side by side").
+  /// Batch studies, which fill every core with pallets, use 1.
   int axis_threads = 0;
   /// The memory the axis threads' simulations may take together: each needs its own mjData, and a
   /// large load's is hundreds of MB (MuJoCo 2.2's njmax x njmax matrix), so fewer threads run
-  /// when four would not fit (a 96-carton load: 1.5 GB resident on four, see core/README.md).
+  /// when four would not fit (core/README.md, "Buffers from what the scene uses").
   double axis_memory_bytes = 640.0 * 1024 * 1024;
   /// Axes answered from others where the physics says they must agree (search_envelope): a
   /// mirror-symmetric load's stop from its start-up, and the e-stop speed from the stop search.
@@ -68,7 +68,7 @@ struct SearchConfig {
   /// wall time changes (Envelope::speculative counts the probes run ahead for nothing).
   bool speculate = true;
   /// ... once the search's last probe took this long (ms): starting a thread and an mjData cost
-  /// about as much as a reduced-model probe (a wrapped load's envelope took 14 ms longer).
+  /// about as much as a reduced-model probe (core/README.md, "Probes run ahead on spare cores").
   double speculate_after_ms = 20.0;
 
   bool operator==(const SearchConfig&) const = default;
