@@ -2,7 +2,7 @@
 // The MuJoCo 2.2.2 engine, guarded: RAII for models and data, MJCF compiled from memory, engine
 // errors turned into values in the calling thread, the box-box phantom-contact filter, and the
 // checks that turn MuJoCo's silent failures (buffer overflow, NaN resets) into a reason.
-// Facts behind each guard: /work/shared/reference/MUJOCO_2_2_NOTES.md, kept in core/README.md.
+// Facts behind each guard: core/README.md, "MuJoCo 2.2.2 facts the code relies on".
 #pragma once
 
 #include <mujoco/mujoco.h>
