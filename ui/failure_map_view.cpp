@@ -10,8 +10,7 @@ namespace pb::ui {
 
 namespace {
 
-constexpr double kLeft = 52.0;    // room for the acceleration labels and title
-constexpr double kBottom = 58.0;  // speed labels, title and the legend
+constexpr double kLeft = 52.0;  // room for the acceleration labels and title
 constexpr double kTop = 8.0;
 constexpr double kRight = 10.0;
 
@@ -106,8 +105,55 @@ void FailureMapView::setDialledPoint(double speed_mps, double accel_mps2) {
 }
 
 QRectF FailureMapView::plotRect() const {
+  // Below the plot: the speed labels, the axis title, then the legend's rows.
+  const QFontMetrics fm(font());
+  int rows = 1;
+  legendLayout(&rows);
+  const double bottom = 2.0 * fm.height() + 6.0 + rows * (fm.height() + 2.0) + 2.0;
   return QRectF(kLeft, kTop, std::max(10.0, width() - kLeft - kRight),
-                std::max(10.0, height() - kTop - kBottom));
+                std::max(10.0, height() - kTop - bottom));
+}
+
+std::vector<std::pair<QColor, QString>> FailureMapView::legend() const {
+  std::vector<std::pair<QColor, QString>> out;
+  out.emplace_back(cellColor({Outcome::safe, FailureMode::no_failure, false}),
+                   modeLabel(FailureMode::no_failure));
+  for (FailureMode m : {FailureMode::tip_over, FailureMode::top_item_slide,
+                        FailureMode::pallet_slip, FailureMode::load_shift}) {
+    const bool present = std::any_of(_grid.cells.begin(), _grid.cells.end(), [&](const Cell& c) {
+      return c.outcome == Outcome::failed && c.mode == m;
+    });
+    if (present) out.emplace_back(cellColor({Outcome::failed, m, false}), modeLabel(m));
+  }
+  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
+                  [](const Cell& c) { return c.outcome == Outcome::unstable; })) {
+    out.emplace_back(cellColor({Outcome::unstable, FailureMode::no_failure, false}),
+                     tr("unstable"));
+  }
+  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
+                  [](const Cell& c) { return c.non_monotone; })) {
+    out.emplace_back(Qt::black, tr("non-monotone"));
+  }
+  return out;
+}
+
+std::vector<QPointF> FailureMapView::legendLayout(int* rows) const {
+  const QFontMetrics fm(font());
+  const double left = kLeft, right = std::max(kLeft + 10.0, width() - kRight);
+  std::vector<QPointF> at;  // (x, row)
+  double x = left;
+  int row = 0;
+  for (const auto& [color, name] : legend()) {
+    const double w = 13.0 + fm.horizontalAdvance(name);
+    if (x > left && x + w > right) {  // wrap to the next row
+      x = left;
+      ++row;
+    }
+    at.emplace_back(x, row);
+    x += w + 10.0;
+  }
+  *rows = row + 1;
+  return at;
 }
 
 QPointF FailureMapView::valuePoint(double speed, double accel) const {
@@ -134,6 +180,7 @@ QRectF FailureMapView::cellRect(int si, int ai) const {
 }
 
 void FailureMapView::paintEvent(QPaintEvent*) {
+  _cut.clear();
   QPainter p(this);
   p.fillRect(rect(), palette().color(QPalette::Base));
   p.setRenderHint(QPainter::Antialiasing, false);
@@ -172,57 +219,53 @@ void FailureMapView::paintEvent(QPaintEvent*) {
   p.setPen(text);
   p.drawRect(plot);
 
-  // Axis labels at (a subset of) the cell centres.
+  // Axis labels at (a subset of) the cell centres; text that does not fit its box is noted.
   const QFontMetrics fm(font());
+  const auto fits = [&](const QString& s, double room) {
+    if (fm.horizontalAdvance(s) > room + 0.5) _cut << s;
+  };
   const int xStep =
       std::max(1, static_cast<int>(std::ceil(ns * fm.horizontalAdvance(QStringLiteral("0.00 ")) /
                                              plot.width())));
   for (int s = 0; s < ns; s += xStep) {
     const QRectF cr = cellRect(s, 0);
+    const QString label = QString::number(_grid.speeds_mps[static_cast<std::size_t>(s)], 'f', 2);
+    fits(label, 60.0);
     p.drawText(QRectF(cr.center().x() - 30, plot.bottom() + 2, 60, fm.height()), Qt::AlignHCenter,
-               QString::number(_grid.speeds_mps[static_cast<std::size_t>(s)], 'f', 2));
+               label);
   }
   const int yStep = std::max(1, static_cast<int>(std::ceil(na * fm.height() / plot.height())));
   for (int a = 0; a < na; a += yStep) {
     const QRectF cr = cellRect(0, a);
+    const QString label = QString::number(_grid.accels_mps2[static_cast<std::size_t>(a)], 'f', 1);
+    fits(label, kLeft - 18);
     p.drawText(QRectF(2, cr.center().y() - fm.height() / 2.0, kLeft - 18, fm.height()),
-               Qt::AlignRight | Qt::AlignVCenter,
-               QString::number(_grid.accels_mps2[static_cast<std::size_t>(a)], 'f', 1));
+               Qt::AlignRight | Qt::AlignVCenter, label);
   }
+  const QString xTitle = tr("belt speed (m/s)"), yTitle = tr("start-up (m/s²)");
+  fits(xTitle, plot.width());
+  fits(yTitle, plot.height());
   p.drawText(QRectF(plot.left(), plot.bottom() + fm.height() + 2, plot.width(), fm.height()),
-             Qt::AlignHCenter, tr("belt speed (m/s)"));
+             Qt::AlignHCenter, xTitle);
   p.save();
   p.translate(12, plot.center().y());
   p.rotate(-90);
   p.drawText(QRectF(-plot.height() / 2, -fm.height() / 2.0, plot.height(), fm.height()),
-             Qt::AlignCenter, tr("start-up (m/s²)"));
+             Qt::AlignCenter, yTitle);
   p.restore();
 
-  // Legend: one swatch per colour present.
-  double x = plot.left();
-  const double y = plot.bottom() + 2 * fm.height() + 6;
-  auto swatch = [&](const QColor& c, const QString& name) {
-    p.fillRect(QRectF(x, y + 2, 10, 10), c);
+  // Legend: one swatch per colour present, in rows within the plot's width.
+  int rows = 1;
+  const std::vector<QPointF> at = legendLayout(&rows);
+  const std::vector<std::pair<QColor, QString>> entries = legend();
+  const double top = plot.bottom() + 2 * fm.height() + 6;
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const double x = at[k].x(), y = top + at[k].y() * (fm.height() + 2.0);
+    p.fillRect(QRectF(x, y + 2, 10, 10), entries[k].first);
     p.setPen(text);
-    p.drawText(QPointF(x + 13, y + fm.ascent()), name);
-    x += 13 + fm.horizontalAdvance(name) + 10;
-  };
-  swatch(cellColor({Outcome::safe, FailureMode::no_failure, false}),
-         modeLabel(FailureMode::no_failure));
-  for (FailureMode m : {FailureMode::tip_over, FailureMode::top_item_slide,
-                        FailureMode::pallet_slip, FailureMode::load_shift}) {
-    const bool present = std::any_of(_grid.cells.begin(), _grid.cells.end(), [&](const Cell& c) {
-      return c.outcome == Outcome::failed && c.mode == m;
-    });
-    if (present) swatch(cellColor({Outcome::failed, m, false}), modeLabel(m));
-  }
-  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
-                  [](const Cell& c) { return c.outcome == Outcome::unstable; })) {
-    swatch(cellColor({Outcome::unstable, FailureMode::no_failure, false}), tr("unstable"));
-  }
-  if (std::any_of(_grid.cells.begin(), _grid.cells.end(),
-                  [](const Cell& c) { return c.non_monotone; })) {
-    swatch(Qt::black, tr("non-monotone"));
+    p.drawText(QPointF(x + 13, y + fm.ascent()), entries[k].second);
+    fits(entries[k].second, width() - x - 13);
+    if (y + fm.height() > height() + 0.5) _cut << entries[k].second;
   }
 
   // The dialled point: a ring with a white halo, clamped into the plot.

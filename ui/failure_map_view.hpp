@@ -9,8 +9,10 @@
 
 #include <QColor>
 #include <QRectF>
+#include <QStringList>
 #include <QWidget>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/analysis/failure_map.hpp"
@@ -48,6 +50,10 @@ class FailureMapView : public QWidget {
   /// The widget point of a (speed, accel) value (the dialled marker's centre).
   QPointF valuePoint(double speed_mps, double accel_mps2) const;
 
+  /// Text the last paint could not fit in its box (an axis label, a tick, a legend entry wider
+  /// than the room it had): empty when everything was drawn whole. For the screenshot tests.
+  QStringList cutTexts() const { return _cut; }
+
   QSize minimumSizeHint() const override { return {260, 200}; }
   QSize sizeHint() const override { return {420, 320}; }
 
@@ -64,10 +70,15 @@ class FailureMapView : public QWidget {
 
  private:
   QRectF plotRect() const;
+  /// The legend's entries: one swatch per colour present.
+  std::vector<std::pair<QColor, QString>> legend() const;
+  /// The legend laid out in rows within the plot's width: each entry's row and x offset.
+  std::vector<QPointF> legendLayout(int* rows) const;
 
   Grid _grid;
   std::optional<QPointF> _dialled;  ///< (speed, accel)
   QString _message;
+  QStringList _cut;  ///< set by paintEvent
 };
 
 }  // namespace pb::ui

@@ -128,6 +128,20 @@ class TestFailureMapView : public QObject {
     QVERIFY(distance(image.pixelColor((fast.topLeft() + QPointF(3, 3)).toPoint()), Qt::black) < 30);
   }
 
+  // Every text is drawn whole: at the smallest size the view asks for, the legend (five entries
+  // here) wraps into rows and nothing is cut; in a box too small for its labels, what does not
+  // fit is named (the check that the console's screenshot test relies on can fail).
+  void noTextIsCut() {
+    FailureMapView view;
+    view.setGrid(grid());
+    view.resize(view.minimumSizeHint());
+    QVERIFY(!view.grab().isNull());
+    QVERIFY2(view.cutTexts().isEmpty(), qPrintable(view.cutTexts().join(QStringLiteral(" | "))));
+    view.resize(160, 150);
+    QVERIFY(!view.grab().isNull());
+    QVERIFY(!view.cutTexts().isEmpty());
+  }
+
   void inconsistentGridIsRefused() {
     FailureMapView view;
     FailureMapView::Grid g = grid();

@@ -19,6 +19,7 @@
 
 #include "core/inputs/scenario.hpp"
 #include "ui/console_screenshot.hpp"
+#include "ui/failure_map_view.hpp"
 #include "ui/friction_chart.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"
@@ -52,6 +53,11 @@ QStringList cutTexts(QWidget* root) {
         cut << QStringLiteral("%1: '%2'")
                    .arg(QString::fromLatin1(view->metaObject()->className()), text);
     }
+  }
+  for (pb::ui::FailureMapView* map : root->findChildren<pb::ui::FailureMapView*>()) {
+    if (!map->isVisible()) continue;
+    for (const QString& text : map->cutTexts())
+      cut << QStringLiteral("failure map: '%1'").arg(text);
   }
   for (QLabel* label : root->findChildren<QLabel*>()) {
     if (!label->isVisible() || label->wordWrap() || label->text().isEmpty() ||
