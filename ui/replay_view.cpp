@@ -221,7 +221,24 @@ void ReplayView::setPreset(CameraPreset preset) {
 }
 
 void ReplayView::setFollowFailure(bool follow) {
+  if (follow == _follow) return;
   _follow = follow;
+  if (follow) {
+    // Close in on the followed item: three of its sizes away, where it fills about a quarter of
+    // the view's height with its neighbours around it (the wheel still zooms).
+    _distanceBeforeFollow = _camera.distance;
+    double size = _replay.pallet.base_dims_m[0];
+    if (_replay.failure && !_replay.failure->items.empty()) {
+      const auto i = static_cast<std::size_t>(_replay.failure->items.front());
+      if (i < _replay.pallet.items.size()) {
+        const auto& d = _replay.pallet.items[i].dims_m;
+        size = std::max({d[0], d[1], d[2]});
+      }
+    }
+    _camera.distance = std::min(_camera.distance, static_cast<float>(std::max(0.8, 3.0 * size)));
+  } else if (_distanceBeforeFollow > 0.0f) {
+    _camera.distance = _distanceBeforeFollow;
+  }
   updateFollowTarget();
   update();
 }

@@ -56,7 +56,8 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   const pb::ReplayFrame& currentFrame() const { return _frame; }
 
   void setPreset(CameraPreset preset);
-  /// Keeps the failing item (the pallet when nothing failed) at the centre of the view.
+  /// Keeps the failing item (the pallet when nothing failed) at the centre of the view, closer
+  /// in (three of its sizes away); off again, the camera steps back to where it was.
   void setFollowFailure(bool follow);
   bool followFailure() const { return _follow; }
   const OrbitCamera& camera() const { return _camera; }
@@ -116,6 +117,7 @@ class ReplayView : public QOpenGLWidget, protected QOpenGLFunctions {
   OrbitCamera _camera;
   CameraPreset _preset = CameraPreset::iso;
   bool _follow = false;
+  float _distanceBeforeFollow = 0.0f;  ///< restored when following stops
   QPoint _lastMouse;
   QString _glProblem;
   std::unique_ptr<QOpenGLShaderProgram> _program;

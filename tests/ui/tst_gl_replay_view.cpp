@@ -165,15 +165,36 @@ class TestGlReplayView : public QObject {
     }
   }
 
+  // Following the failing item centres it and closes in on it (it looks at least twice as big as
+  // in the preset's view); following stops, the view steps back to where it was.
   void followKeepsTheFailingItemCentred() {
     ReplayView view;
     view.resize(kSize);
     view.setReplay(_replay);
-    view.setFollowFailure(true);
     view.setTime(_replay.failure->time_s);
+    const pb::Pose item = view.currentFrame().items[7];
+    const double half = _replay.pallet.items[7].dims_m[2] / 2.0;
+    const auto apparent = [&] {  // the projected length of the item's vertical axis
+      const QPointF a = view.project(toQt({item.pos[0], item.pos[1], item.pos[2] - half}));
+      const QPointF b = view.project(toQt({item.pos[0], item.pos[1], item.pos[2] + half}));
+      return std::hypot(a.x() - b.x(), a.y() - b.y());
+    };
+    const double before = apparent();
+    const float distance = view.camera().distance;
+    view.setFollowFailure(true);
     const QPointF centre = view.project(toQt(view.currentFrame().items[7].pos));
     QVERIFY(std::abs(centre.x() - kSize.width() / 2.0) < 0.5);
     QVERIFY(std::abs(centre.y() - kSize.height() / 2.0) < 0.5);
+    QVERIFY2(apparent() >= 2.0 * before,
+             qPrintable(QStringLiteral("%1 px -> %2 px").arg(before).arg(apparent())));
+    view.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&view));
+    const QString path = QStringLiteral(PB_TEST_ARTIFACTS_DIR "/replay_follow_failure.png");
+    QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)) &&
+            view.grabFramebuffer().save(path));
+    qInfo("screenshot: %s", qPrintable(path));
+    view.setFollowFailure(false);
+    QCOMPARE(view.camera().distance, distance);
   }
 
   // The replay goes on after the failure (the wreck); the camera rides along with the pallet, so
