@@ -54,6 +54,7 @@ CatalogList::CatalogList(const pb::Catalog& catalog, QWidget* parent)
   _proxy.setFilterRole(Qt::DisplayRole);
   _filter->setPlaceholderText(tr("Search SKU, name or category"));
   _filter->setClearButtonEnabled(true);
+  _filter->setToolTip(tr("Filter the catalogue by SKU, name or category"));
   _view->setModel(&_proxy);
   _view->setSelectionMode(QAbstractItemView::SingleSelection);
   _view->setEditTriggers(QAbstractItemView::NoEditTriggers);

@@ -105,6 +105,12 @@ DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
   _accelDial = new EnvelopeDial(kMaxAccelMps2, 100, this);  // in 0.01 m/s^2
   _speedDial->setAccessibleName(tr("Belt speed dial"));
   _accelDial->setAccessibleName(tr("Start-up acceleration dial"));
+  _speedDial->setToolTip(
+      tr("The belt speed to dispatch at (the coloured arc shows the analysed "
+         "envelope once the replay ends)"));
+  _accelDial->setToolTip(
+      tr("The start-up acceleration to dispatch with (the coloured arc shows "
+         "the analysed envelope once the replay ends)"));
 
   auto spin = [this](double max, const QString& suffix, const QString& name) {
     auto* s = new QDoubleSpinBox(this);
@@ -118,6 +124,8 @@ DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
   };
   _speedSpin = spin(kMaxSpeedMps, QStringLiteral(" m/s"), tr("Belt speed"));
   _accelSpin = spin(kMaxAccelMps2, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
+  _speedSpin->setToolTip(tr("The belt speed to dispatch at, typed exactly"));
+  _accelSpin->setToolTip(tr("The start-up acceleration to dispatch with, typed exactly"));
 
   _dispatch = new QPushButton(tr("Dispatch"), this);
   _dispatch->setToolTip(

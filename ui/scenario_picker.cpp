@@ -26,6 +26,9 @@ ScenarioPicker::ScenarioPicker(PalletDocument* document, QWidget* parent)
                         Qt::ToolTipRole);
   }
   _description->setWordWrap(true);
+  _combo->setToolTip(tr("A curated scenario: its description shows below"));
+  _load->setToolTip(
+      tr("Replace the pallet being edited with this scenario's (asks to save first)"));
   auto* row = new QHBoxLayout;
   row->addWidget(_combo, 1);
   row->addWidget(_load);

@@ -87,6 +87,16 @@ StackBuilderPanel::StackBuilderPanel(PalletDocument* document, QWidget* parent)
   _presetMessage->setStyleSheet(QStringLiteral("color: #b00000"));
   _findings->setWordWrap(true);
   _findings->setMinimumHeight(60);
+  _pattern->setToolTip(tr("How the preset lays each layer: columns, a brick bond or a pinwheel"));
+  _layers->setToolTip(tr("Layers of cartons the preset stacks"));
+  _applyPreset->setToolTip(
+      tr("Replace the load with the pattern and layers above, using the SKU selected in the list"));
+  _type->setToolTip(tr("The pallet the load stands on (its size, weight and friction)"));
+  _wrap->setToolTip(
+      tr("How the load is held together: unwrapped cartons can slide and tip one by one"));
+  _env->setToolTip(tr("Where the pallet has been: frozen, refrigerated or thawed (friction)"));
+  _temp->setToolTip(tr("The pallet's temperature now (friction depends on it)"));
+  _since->setToolTip(tr("Minutes since the pallet's temperature changed (a frost film melts)"));
 
   // Left: the deck. Right: what to place, presets, the pallet's properties.
   auto* place = new QGroupBox(tr("Place"), this);

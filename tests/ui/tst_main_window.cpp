@@ -4,15 +4,24 @@
 // analysis service and fills the replay, trace plots and results; a replay exported as JSON opens
 // again without re-simulating, and a broken replay file gets a message with its pointer. The
 // window's PNG is an artifact.
+#include <QAbstractButton>
+#include <QAbstractSlider>
+#include <QAbstractSpinBox>
+#include <QAction>
+#include <QComboBox>
 #include <QDir>
 #include <QFile>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenu>
 #include <QMenuBar>
+#include <QScrollBar>
 #include <QSignalSpy>
 #include <QStandardPaths>
+#include <QTabBar>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QToolButton>
 #include <QtCharts/QLineSeries>
 
 #include "core/inputs/scenario.hpp"
@@ -194,6 +203,47 @@ class TestMainWindow : public QObject {
     QCOMPARE(replay->player()->time(), replay->player()->endTime());
     replay->goToStartAction()->trigger();
     QCOMPARE(replay->player()->time(), replay->player()->startTime());
+  }
+
+  // Every control a person can use says what it does when hovered (buttons, boxes, dials,
+  // sliders, the fields), in the docks and the central panels alike.
+  void everyControlHasATooltip() {
+    MainWindow window;
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    QStringList silent;
+    const auto check = [&](QWidget* w, const QString& what) {
+      if (!w->isVisibleTo(&window) || !w->isEnabled() || !w->toolTip().isEmpty()) return;
+      if (auto* b = qobject_cast<QAbstractButton*>(w)) {
+        if (auto* tb = qobject_cast<QToolButton*>(b);
+            tb && tb->defaultAction() && !tb->defaultAction()->toolTip().isEmpty())
+          return;
+      }
+      // A part of a compound control that carries the tooltip (a spin box's line edit, ...).
+      for (QWidget* p = w->parentWidget(); p != nullptr && p != &window; p = p->parentWidget()) {
+        if ((qobject_cast<QAbstractSpinBox*>(p) || qobject_cast<QComboBox*>(p)) &&
+            !p->toolTip().isEmpty())
+          return;
+      }
+      silent << QStringLiteral("%1 '%2' (%3)")
+                    .arg(what, w->objectName(),
+                         qobject_cast<QAbstractButton*>(w)
+                             ? qobject_cast<QAbstractButton*>(w)->text()
+                             : QString::fromLatin1(w->metaObject()->className()));
+    };
+    for (auto* w : window.findChildren<QAbstractButton*>()) {
+      if (qobject_cast<QTabBar*>(w->parentWidget()) || w->inherits("QDockWidgetTitleButton") ||
+          w->parentWidget()->inherits("QScrollBar"))
+        continue;  // Qt's own: the tab bar's scroll arrows, a dock's float and close buttons
+      check(w, QStringLiteral("button"));
+    }
+    for (auto* w : window.findChildren<QComboBox*>()) check(w, QStringLiteral("combo box"));
+    for (auto* w : window.findChildren<QAbstractSpinBox*>()) check(w, QStringLiteral("spin box"));
+    for (auto* w : window.findChildren<QAbstractSlider*>()) {
+      if (!qobject_cast<QScrollBar*>(w)) check(w, QStringLiteral("slider or dial"));
+    }
+    for (auto* w : window.findChildren<QLineEdit*>()) check(w, QStringLiteral("field"));
+    QVERIFY2(silent.isEmpty(), qPrintable(silent.join(QStringLiteral(" | "))));
   }
 
   // The closed-form estimate shows at once, marked provisional; the analysis replaces it.
