@@ -243,35 +243,29 @@ void AnalysisService::reportProgress(RequestId id, const QString& step) {
       Qt::QueuedConnection);
 }
 
-void AnalysisService::reportCount(int done, int planned) {
+void AnalysisService::queueForRunning(const std::function<void(RequestId)>& emitFor) {
   RequestId id = 0;
   {
     std::lock_guard lock(_mutex);
     id = _running;
   }
   if (id == 0) return;
-  const bool exact = _countExact.load();
   QMetaObject::invokeMethod(
       this,
-      [this, id, done, planned, exact] {
-        if (_pending.contains(id)) emit counted(id, done, planned, exact);
+      [this, id, emitFor] {
+        if (_pending.contains(id)) emitFor(id);
       },
       Qt::QueuedConnection);
 }
 
+void AnalysisService::reportCount(int done, int planned) {
+  const bool exact = _countExact.load();
+  queueForRunning(
+      [this, done, planned, exact](RequestId id) { emit counted(id, done, planned, exact); });
+}
+
 void AnalysisService::reportAxis(pb::Axis axis, const pb::AxisLimit& limit) {
-  RequestId id = 0;
-  {
-    std::lock_guard lock(_mutex);
-    id = _running;
-  }
-  if (id == 0) return;
-  QMetaObject::invokeMethod(
-      this,
-      [this, id, axis, limit] {
-        if (_pending.contains(id)) emit axisFound(id, axis, limit);
-      },
-      Qt::QueuedConnection);
+  queueForRunning([this, axis, limit](RequestId id) { emit axisFound(id, axis, limit); });
 }
 
 QString progressText(const QString& step, int done, int planned, bool exact, double elapsed_s) {

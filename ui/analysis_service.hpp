@@ -90,6 +90,9 @@ class AnalysisService : public QObject {
   /// Runs on the GUI thread: emits the request's end unless it was cancelled meanwhile.
   void finish(RequestId id, const std::function<void()>& emitResult);
   void reportProgress(RequestId id, const QString& step);
+  /// From any thread: runs `emitFor(id)` on the GUI thread for the request running now, if it has
+  /// not ended by then.
+  void queueForRunning(const std::function<void(RequestId)>& emitFor);
   /// From the threads that run simulations: queues counted() for the running request.
   void reportCount(int done, int planned);
   /// From the axis threads: queues axisFound() for the running request.

@@ -81,6 +81,7 @@ void FailureMapView::setGrid(const Grid& grid) {
     _grid = grid;
     _message.clear();
   }
+  _legend = legend();  // once per grid: the layout that places the plot uses it on every cell
   update();
 }
 
@@ -95,6 +96,7 @@ void FailureMapView::setMap(const FailureMap& map) {
 
 void FailureMapView::clear() {
   _grid = {};
+  _legend.clear();
   _message.clear();
   update();
 }
@@ -143,7 +145,7 @@ std::vector<QPointF> FailureMapView::legendLayout(int* rows) const {
   std::vector<QPointF> at;  // (x, row)
   double x = left;
   int row = 0;
-  for (const auto& [color, name] : legend()) {
+  for (const auto& [color, name] : _legend) {
     const double w = 13.0 + fm.horizontalAdvance(name);
     if (x > left && x + w > right) {  // wrap to the next row
       x = left;
@@ -257,7 +259,7 @@ void FailureMapView::paintEvent(QPaintEvent*) {
   // Legend: one swatch per colour present, in rows within the plot's width.
   int rows = 1;
   const std::vector<QPointF> at = legendLayout(&rows);
-  const std::vector<std::pair<QColor, QString>> entries = legend();
+  const std::vector<std::pair<QColor, QString>>& entries = _legend;
   const double top = plot.bottom() + 2 * fm.height() + 6;
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const double x = at[k].x(), y = top + at[k].y() * (fm.height() + 2.0);

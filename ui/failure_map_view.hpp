@@ -70,7 +70,7 @@ class FailureMapView : public QWidget {
 
  private:
   QRectF plotRect() const;
-  /// The legend's entries: one swatch per colour present.
+  /// The legend's entries for _grid: one swatch per colour present (kept in _legend).
   std::vector<std::pair<QColor, QString>> legend() const;
   /// The legend laid out in rows within the plot's width: each entry's row and x offset.
   std::vector<QPointF> legendLayout(int* rows) const;
@@ -78,7 +78,8 @@ class FailureMapView : public QWidget {
   Grid _grid;
   std::optional<QPointF> _dialled;  ///< (speed, accel)
   QString _message;
-  QStringList _cut;  ///< set by paintEvent
+  QStringList _cut;                                 ///< set by paintEvent
+  std::vector<std::pair<QColor, QString>> _legend;  ///< legend() of the grid shown
 };
 
 }  // namespace pb::ui

@@ -163,6 +163,12 @@ void Analyzer::set_axis_found(AxisFound found) {
   axis_found_ = std::move(found);
 }
 
+SimOptions Analyzer::counting(ProgressCounter& counter) const {
+  SimOptions sim = options_.sim;
+  if (progress_) sim.progress = &counter;
+  return sim;
+}
+
 void Analyzer::set_cancel(const CancelFlag* flag) {
   options_.sim.cancel = flag;
   options_.settle.cancel = flag;
@@ -211,8 +217,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     return m ? ProbeModel{m->simulator.get(), &m->rest} : ProbeModel{p.simulator.get(), &p.rest};
   };
   ProgressCounter counter(progress_);
-  SimOptions sim = options_.sim;
-  if (progress_) sim.progress = &counter;
+  const SimOptions sim = counting(counter);
   auto env = search_envelope(model(0), model(1), config, p.bounds, options_.line, options_.search,
                              sim, axis_found_);
   counter.settle();
@@ -245,8 +250,7 @@ Result<FailureMap> Analyzer::failure_map(const PalletConfig& config, const MapOp
     return Result<FailureMap>::failure(cannot_stand_diagnostics(*p.rest.cannot_stand));
   }
   ProgressCounter counter(progress_);
-  SimOptions sim = options_.sim;
-  if (progress_) sim.progress = &counter;
+  const SimOptions sim = counting(counter);
   auto map = run_failure_map(*p.scene, p.rest, options, options_.line, options_.search, sim);
   counter.settle();
   return map;

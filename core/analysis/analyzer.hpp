@@ -132,6 +132,8 @@ class Analyzer {
   void clear_cache();
 
  private:
+  /// The analyzer's simulation options, counting on `counter` when a progress callback is set.
+  SimOptions counting(ProgressCounter& counter) const;
   /// The scene numerics of a model level (merge for reduced and clustered; the full model's own
   /// timestep wherever an item is free).
   SceneOptions scene_options_for(const FidelityChoice& choice) const;

@@ -420,6 +420,12 @@ struct AxisOutcome {
   std::optional<std::string> error;  ///< an exception ended the search (out of memory, say)
 };
 
+// What a search needs of a run: failed or not, the mode, how near it came.
+ProbeVerdict verdict_of(const SimResult& r) {
+  return ProbeVerdict{r.outcome == Outcome::failed,
+                      r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
+}
+
 Probe make_probe(Axis axis, double x, const SimResult& r) {
   return Probe{axis,
                x,
@@ -585,10 +591,6 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   if (holding.cores) ahead = std::make_unique<Lookahead>(*cores, simulator.scene(), rest, o);
   // Results that exist (ran ahead and finished), for the search's dry runs.
   std::map<double, ProbeVerdict> known;
-  auto verdict_of = [](const SimResult& r) {
-    return ProbeVerdict{r.outcome == Outcome::failed,
-                        r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
-  };
   // The probe the search takes after x if x ends `failed`: the search run again without
   // simulating, on what is known, up to the first probe it does not know.
   auto next_after = [&](double x, bool failed) -> std::optional<double> {
@@ -641,8 +643,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       const SimResult& r = (*runs.value)[i];
       out.probes.push_back(make_probe(t.axis, xs[i], r));
       if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
-      verdicts.push_back(
-          ProbeVerdict{r.outcome == Outcome::failed, out.probes.back().mode, r.peak_ratio});
+      verdicts.push_back(verdict_of(r));
     }
     if (out.unstable) return std::nullopt;
     return verdicts;
