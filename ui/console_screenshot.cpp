@@ -7,8 +7,8 @@
 #include <cmath>
 #include <utility>
 
+#include "core/analysis/analyzer.hpp"
 #include "core/inputs/scenario.hpp"
-#include "ui/dial_panel.hpp"
 #include "ui/main_window.hpp"
 #include "ui/replay_panel.hpp"
 #include "ui/replay_player.hpp"
@@ -44,16 +44,25 @@ QString ConsoleRequest::parse(const QString& slug, const QString& speed, const Q
   if (!accel.isEmpty() && !number(accel, out.profile.accel_mps2)) {
     return QStringLiteral("--profile-accel: '%1' is not a number; give m/s^2, e.g. 2").arg(accel);
   }
-  // The dials' range, as in the console.
-  if (out.profile.target_speed_mps > DialPanel::kMaxSpeedMps) {
-    return QStringLiteral("--profile-speed: %1 m/s is above the console's range (up to %2 m/s)")
+  // The analysed range: the console's dials, its search and its map share it (MainWindow's
+  // service runs the default options).
+  const pb::SearchConfig range = pb::AnalyzerOptions{}.search;
+  auto outside = [](double v, double lo, double hi) { return !(v >= lo - 1e-9 && v <= hi + 1e-9); };
+  if (outside(out.profile.target_speed_mps, range.speed_min_mps, range.speed_max_mps)) {
+    return QStringLiteral(
+               "--profile-speed: %1 m/s is outside the analysed range; give %2 to %3 m/s (the "
+               "dials, the search and the failure map share it)")
         .arg(out.profile.target_speed_mps)
-        .arg(DialPanel::kMaxSpeedMps);
+        .arg(range.speed_min_mps)
+        .arg(range.speed_max_mps);
   }
-  if (out.profile.accel_mps2 > DialPanel::kMaxAccelMps2) {
-    return QStringLiteral("--profile-accel: %1 m/s^2 is above the console's range (up to %2 m/s^2)")
+  if (outside(out.profile.accel_mps2, range.accel_min_mps2, range.accel_max_mps2)) {
+    return QStringLiteral(
+               "--profile-accel: %1 m/s^2 is outside the analysed range; give %2 to %3 m/s^2 (the "
+               "dials, the search and the failure map share it)")
         .arg(out.profile.accel_mps2)
-        .arg(DialPanel::kMaxAccelMps2);
+        .arg(range.accel_min_mps2)
+        .arg(range.accel_max_mps2);
   }
   for (const pb::Diagnostic& d : pb::errors_of(pb::validate_profile(out.profile))) {
     const QString option = d.pointer == "/target_speed_mps" ? QStringLiteral("--profile-speed")

@@ -37,9 +37,10 @@ QString fmt(double v, int decimals) {
 
 }  // namespace
 
-EnvelopeDial::EnvelopeDial(double max_value, int steps_per_unit, QWidget* parent)
-    : QDial(parent), _max(max_value), _steps(steps_per_unit) {
-  setRange(0, static_cast<int>(std::lround(max_value * steps_per_unit)));
+EnvelopeDial::EnvelopeDial(double min_value, double max_value, int steps_per_unit, QWidget* parent)
+    : QDial(parent), _min(min_value), _max(max_value), _steps(steps_per_unit) {
+  setRange(static_cast<int>(std::lround(min_value * steps_per_unit)),
+           static_cast<int>(std::lround(max_value * steps_per_unit)));
   setNotchesVisible(true);
   setNotchTarget(10.0);
   setWrapping(false);
@@ -51,7 +52,11 @@ double EnvelopeDial::physicalValue() const {
 }
 
 void EnvelopeDial::setPhysicalValue(double v) {
-  setValue(static_cast<int>(std::lround(std::clamp(v, 0.0, _max) * _steps)));
+  setValue(static_cast<int>(std::lround(std::clamp(v, _min, _max) * _steps)));
+}
+
+double EnvelopeDial::fraction(double v) const {
+  return _max > _min ? (v - _min) / (_max - _min) : 0.0;
 }
 
 void EnvelopeDial::setLimit(std::optional<double> limit) {
@@ -73,7 +78,7 @@ QColor EnvelopeDial::zoneColor(DialZone zone) {
 
 QPointF EnvelopeDial::arcPoint(double v) const {
   const QRectF r = arcRect(this);
-  const double a = angleDeg(v / _max) * std::numbers::pi / 180.0;
+  const double a = angleDeg(fraction(v)) * std::numbers::pi / 180.0;
   return {r.center().x() + r.width() / 2.0 * std::cos(a),
           r.center().y() - r.height() / 2.0 * std::sin(a)};
 }
@@ -86,8 +91,8 @@ void EnvelopeDial::paintEvent(QPaintEvent* event) {
   const QRectF r = arcRect(this);
   const double limit = *_limit;
   // Zone boundaries as fractions of the dial's range.
-  const double marginal_from = std::clamp(kDialedInFraction * limit / _max, 0.0, 1.0);
-  const double failing_from = std::clamp(limit / _max, 0.0, 1.0);
+  const double marginal_from = std::clamp(fraction(kDialedInFraction * limit), 0.0, 1.0);
+  const double failing_from = std::clamp(fraction(limit), 0.0, 1.0);
   auto arc = [&](double f0, double f1, DialZone zone) {
     if (f1 <= f0) return;
     p.setPen(QPen(zoneColor(zone), kArcWidth, Qt::SolidLine, Qt::FlatCap));
@@ -100,9 +105,10 @@ void EnvelopeDial::paintEvent(QPaintEvent* event) {
   arc(failing_from, 1.0, DialZone::failing);
 }
 
-DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
-  _speedDial = new EnvelopeDial(kMaxSpeedMps, 100, this);   // in 0.01 m/s
-  _accelDial = new EnvelopeDial(kMaxAccelMps2, 100, this);  // in 0.01 m/s^2
+DialPanel::DialPanel(const pb::SearchConfig& range, QWidget* parent) : QWidget(parent) {
+  // In 0.01 m/s and 0.01 m/s^2.
+  _speedDial = new EnvelopeDial(range.speed_min_mps, range.speed_max_mps, 100, this);
+  _accelDial = new EnvelopeDial(range.accel_min_mps2, range.accel_max_mps2, 100, this);
   _speedDial->setAccessibleName(tr("Belt speed dial"));
   _accelDial->setAccessibleName(tr("Start-up acceleration dial"));
   _speedDial->setToolTip(
@@ -112,9 +118,9 @@ DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
       tr("The start-up acceleration to dispatch with (the coloured arc shows "
          "the analysed envelope once the replay ends)"));
 
-  auto spin = [this](double max, const QString& suffix, const QString& name) {
+  auto spin = [this](const EnvelopeDial* dial, const QString& suffix, const QString& name) {
     auto* s = new QDoubleSpinBox(this);
-    s->setRange(0.01, max);
+    s->setRange(dial->minPhysical(), dial->maxPhysical());
     s->setDecimals(2);
     s->setSingleStep(0.05);
     s->setSuffix(suffix);
@@ -122,10 +128,15 @@ DialPanel::DialPanel(QWidget* parent) : QWidget(parent) {
     s->setKeyboardTracking(false);
     return s;
   };
-  _speedSpin = spin(kMaxSpeedMps, QStringLiteral(" m/s"), tr("Belt speed"));
-  _accelSpin = spin(kMaxAccelMps2, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
-  _speedSpin->setToolTip(tr("The belt speed to dispatch at, typed exactly"));
-  _accelSpin->setToolTip(tr("The start-up acceleration to dispatch with, typed exactly"));
+  _speedSpin = spin(_speedDial, QStringLiteral(" m/s"), tr("Belt speed"));
+  _accelSpin = spin(_accelDial, QStringLiteral(" m/s²"), tr("Start-up acceleration"));
+  // The range is the analysed one: the limits say nothing outside it.
+  _speedSpin->setToolTip(tr("The belt speed to dispatch at, typed exactly (%1 to %2 m/s, the "
+                            "analysed range)")
+                             .arg(fmt(range.speed_min_mps, 1), fmt(range.speed_max_mps, 1)));
+  _accelSpin->setToolTip(tr("The start-up acceleration to dispatch with, typed exactly (%1 to "
+                            "%2 m/s², the analysed range)")
+                             .arg(fmt(range.accel_min_mps2, 1), fmt(range.accel_max_mps2, 1)));
 
   _dispatch = new QPushButton(tr("Dispatch"), this);
   _dispatch->setToolTip(
@@ -250,12 +261,6 @@ QString DialPanel::limitsText() const {
   return _limits->text();
 }
 
-void DialPanel::setAnalysedRange(double speed_max_mps, double accel_max_mps2) {
-  _analysedSpeed = speed_max_mps;
-  _analysedAccel = accel_max_mps2;
-  refresh();
-}
-
 void DialPanel::refresh() {
   const auto envelope = _game.envelope();
   if (!envelope) {
@@ -270,22 +275,9 @@ void DialPanel::refresh() {
   }
   _speedDial->setLimit(envelope->max_speed_mps);
   _accelDial->setLimit(envelope->max_accel_mps2);
-  QString limits = tr("Solver's limits: %1 m/s, %2 m/s² start-up")
-                       .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2));
-  // The limits are searched up to the analysed range: above it they say nothing.
-  QStringList beyond;
-  if (speed() > _analysedSpeed + 1e-9) {
-    beyond
-        << tr("%1 m/s is above the %2 m/s analysed").arg(fmt(speed(), 2), fmt(_analysedSpeed, 1));
-  }
-  if (accel() > _analysedAccel + 1e-9) {
-    beyond
-        << tr("%1 m/s² is above the %2 m/s² analysed").arg(fmt(accel(), 2), fmt(_analysedAccel, 1));
-  }
-  if (!beyond.isEmpty()) {
-    limits += QStringLiteral(". ") + tr("Outside the analysed range: ") +
-              beyond.join(QStringLiteral(", ")) + tr("; only the dispatch's run speaks there.");
-  }
+  const QString limits =
+      tr("Solver's limits: %1 m/s, %2 m/s² start-up")
+          .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2));
   _limits->setText(limits);
   const DialScore score = *_game.score();
   // The dispatch's score, not the pallet's grade (the results panel grades the pallet against the

@@ -18,6 +18,7 @@
 #include <QWidget>
 #include <optional>
 
+#include "core/analysis/envelope.hpp"
 #include "core/contract/conveyor_profile.hpp"
 #include "core/contract/safety_result.hpp"
 #include "ui/dial_game.hpp"
@@ -33,11 +34,13 @@ class EnvelopeDial : public QDial {
   Q_OBJECT
 
  public:
-  /// `max_value` in physical units, `steps_per_unit` the dial's integer resolution.
-  EnvelopeDial(double max_value, int steps_per_unit, QWidget* parent = nullptr);
+  /// The range [`min_value`, `max_value`] in physical units, `steps_per_unit` the dial's integer
+  /// resolution.
+  EnvelopeDial(double min_value, double max_value, int steps_per_unit, QWidget* parent = nullptr);
 
   double physicalValue() const;
   void setPhysicalValue(double value);
+  double minPhysical() const { return _min; }
   double maxPhysical() const { return _max; }
   int stepsPerUnit() const { return _steps; }
   /// Paints safe / marginal / failing arcs for this limit; nullopt paints none.
@@ -52,7 +55,10 @@ class EnvelopeDial : public QDial {
   void paintEvent(QPaintEvent* event) override;
 
  private:
-  double _max;
+  /// The fraction of the dial's sweep at physical value `value`.
+  double fraction(double value) const;
+
+  double _min, _max;
   int _steps;
   std::optional<double> _limit;
 };
@@ -61,16 +67,10 @@ class DialPanel : public QWidget {
   Q_OBJECT
 
  public:
-  /// The dials' range: what a supervisor may dial (and `palletballet --profile-*` accept), wider
-  /// than the analysed range so that a failure can be shown beyond the limits.
-  static constexpr double kMaxSpeedMps = 3.0;
-  static constexpr double kMaxAccelMps2 = 6.0;
-
-  explicit DialPanel(QWidget* parent = nullptr);
-
-  /// The top of the analysed range (SearchConfig: the limits are searched up to it). A dialled
-  /// point beyond it is said to be outside it when the limits are shown.
-  void setAnalysedRange(double speed_max_mps, double accel_max_mps2);
+  /// The dials span the analysed range (the search's speed and start-up ranges: `palletballet
+  /// --profile-*`, the search and the failure map use the same one), so every dialled point is one
+  /// the limits speak about.
+  explicit DialPanel(const pb::SearchConfig& range = {}, QWidget* parent = nullptr);
 
   /// The profile the dials describe: accel_hold to the dialled speed at the dialled acceleration,
   /// held 2 s after the ramp (the game's dispatch).
@@ -86,7 +86,7 @@ class DialPanel : public QWidget {
   QPushButton* dispatchButton() const { return _dispatch; }
   /// The score / status line ("Envelope hidden until the replay ends", "Dialed in: 91 %").
   QString statusText() const;
-  /// The solver's limits once revealed, and whether the dialled point is outside what was analysed.
+  /// The solver's limits once revealed.
   QString limitsText() const;
 
  public slots:
@@ -117,10 +117,9 @@ class DialPanel : public QWidget {
   void refresh();
 
   DialGame _game;
-  double _analysedSpeed = 2.0, _analysedAccel = 5.0;  ///< SearchConfig's defaults until set
-  bool _announced = false;                            ///< scoreRevealed emitted for this round
-  QString _refused;      ///< why the last dispatch was refused; empty otherwise
-  double _speed = -1.0;  ///< last values announced by dialsChanged
+  bool _announced = false;  ///< scoreRevealed emitted for this round
+  QString _refused;         ///< why the last dispatch was refused; empty otherwise
+  double _speed = -1.0;     ///< last values announced by dialsChanged
   double _accel = -1.0;
   EnvelopeDial* _speedDial;
   EnvelopeDial* _accelDial;

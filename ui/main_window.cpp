@@ -86,9 +86,7 @@ MainWindow::MainWindow(QWidget* parent)
       dock(this, tr("Pallet"), QStringLiteral("palletDock"), left, Qt::LeftDockWidgetArea);
 
   // Right: the dials and what the analysis says; the friction chart under them.
-  _dials = new DialPanel(this);
-  const pb::SearchConfig& search = _service->options().search;
-  _dials->setAnalysedRange(search.speed_max_mps, search.accel_max_mps2);
+  _dials = new DialPanel(_service->options().search, this);
   _results = new ResultsPanel(this);
   _friction = new FrictionChart(this);
   QDockWidget* dialDock =

@@ -90,8 +90,7 @@ int run_map(const Args& args) {
   Json out = failure_map_to_json(*map);
   out["source"] = source;
   out["pallet_id"] = input->pallet.pallet_id;
-  out["line"] = {{"estop_decel_mps2", ao.line.estop_decel_mps2},
-                 {"curve_radius_m", ao.line.curve_radius_m}};
+  out["line"] = line_to_json(ao.line, ao.search);
   out["cell_definition"] =
       "cell (v, a): start-up from rest at a up to v (at most " +
       short_number(ao.search.max_ramp_s) +

@@ -632,8 +632,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     out["probes"] = probes_to_json(env.probes);
     out["explain"] = explain_json(env.result);
     out["warnings"] = diagnostics_to_json(warnings_of(a.config.diagnostics));
-    out["line"] = {{"estop_decel_mps2", pool_.options().analyzer.line.estop_decel_mps2},
-                   {"curve_radius_m", pool_.options().analyzer.line.curve_radius_m}};
+    out["line"] = line_to_json(pool_.options().analyzer.line, pool_.options().analyzer.search);
     return json_response(200, out);
   });
   post("/v1/explain", [analysed](const Request& request, const Params&) {

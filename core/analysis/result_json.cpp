@@ -55,6 +55,17 @@ Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile) {
   return j;
 }
 
+Json line_to_json(const LineDescription& line, const SearchConfig& search) {
+  return {{"estop_decel_mps2", line.estop_decel_mps2},
+          {"curve_radius_m", line.curve_radius_m},
+          {"curve_angle_deg", line.curve_angle_deg},
+          {"range",
+           {{"speed_mps", {search.speed_min_mps, search.speed_max_mps}},
+            {"accel_mps2", {search.accel_min_mps2, search.accel_max_mps2}},
+            {"decel_mps2", {search.decel_min_mps2, search.decel_max_mps2}},
+            {"lateral_g", {search.lateral_min_g, search.lateral_max_g}}}}};
+}
+
 Json probes_to_json(const std::vector<Probe>& probes) {
   Json out = Json::array();
   for (const auto& p : probes) {

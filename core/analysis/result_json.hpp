@@ -38,6 +38,12 @@ Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile);
 /// failed), "sim_time_s", "steps", "wall_ms"}.
 Json probes_to_json(const std::vector<Probe>& probes);
 
+/// The line an answer was computed for and the range its limits were searched in (the console's
+/// dials and the failure map span the same one): {"estop_decel_mps2", "curve_radius_m",
+/// "curve_angle_deg", "range": {"speed_mps": [min, max], "accel_mps2", "decel_mps2",
+/// "lateral_g"}}. A limit at the top of its range means nothing failed up to it.
+Json line_to_json(const LineDescription& line, const SearchConfig& search);
+
 /// A failure map: "speeds_mps", "accels_mps2", "cells" (a row per acceleration, a cell per speed:
 /// {"outcome", "mode", "failure_time_s", "decided_by", "non_monotone", "reason"?}), "line_cells",
 /// the derived "envelope", "unstable_cells", "non_monotone_cells", "sims", "threads", "wall_ms".

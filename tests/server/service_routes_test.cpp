@@ -210,6 +210,10 @@ class ServiceRoutesTest : public QObject {
     for (const char* axis : {"accel", "decel", "lateral", "speed"})
       QVERIFY(a["axes"].contains(axis));
     QVERIFY(!a["probes"].empty());
+    // The range the limits were searched in, as the console's dials span it.
+    QCOMPARE(a["line"]["range"]["speed_mps"], Json({0.1, 2.0}));
+    QCOMPARE(a["line"]["range"]["accel_mps2"], Json({0.1, 5.0}));
+    QVERIFY(a["result"]["max_speed_mps"].get<double>() <= 2.0);
     QVERIFY(!a["explain"]["reason"].get<std::string>().empty());
     QVERIFY(a["explain"]["compared_with"].get<std::string>().find("table") != std::string::npos);
     QCOMPARE(body_of(client_->Post("/v1/explain", pallet, kJson))["grade"], a["explain"]["grade"]);

@@ -7,6 +7,7 @@
 #include <QSignalSpy>
 #include <QtTest>
 
+#include "core/inputs/scenario.hpp"
 #include "ui/dial_panel.hpp"
 
 using namespace pb;
@@ -16,7 +17,7 @@ namespace {
 
 SafetyResult envelope() {
   SafetyResult r;
-  r.max_speed_mps = 2.0;
+  r.max_speed_mps = 1.5;
   r.max_accel_mps2 = 3.0;
   r.dominant_failure_mode = FailureMode::top_item_slide;
   return r;
@@ -52,8 +53,8 @@ class TestDialPanel : public QObject {
     QCOMPARE(changed.count(), 2);
     QCOMPARE(changed.last().at(1).toDouble(), 2.75);
     panel.setSpeed(99.0);  // clamped to the dial's range
-    QCOMPARE(panel.speed(), 3.0);
-    QCOMPARE(panel.speedDial()->value(), 300);
+    QCOMPARE(panel.speed(), 2.0);
+    QCOMPARE(panel.speedDial()->value(), 200);
   }
 
   void dispatchEmitsTheDialledProfile() {
@@ -74,7 +75,7 @@ class TestDialPanel : public QObject {
   void envelopeHiddenUntilReplayEndsThenPainted() {
     DialPanel panel;
     panel.resize(420, 420);
-    panel.setSpeed(1.8);
+    panel.setSpeed(1.35);
     panel.setAccel(2.7);
     QSignalSpy revealed(&panel, &DialPanel::scoreRevealed);
     panel.dispatch();
@@ -94,19 +95,19 @@ class TestDialPanel : public QObject {
     panel.replayFinished();
     QCOMPARE(revealed.count(), 1);
     const auto score = revealed.first().at(0).value<DialScore>();
-    QCOMPARE(score.points, 90);  // 1.8 / 2.0 and 2.7 / 3.0
+    QCOMPARE(score.points, 90);  // 1.35 / 1.5 and 2.7 / 3.0
     QCOMPARE(score.verdict, DialScore::Verdict::dialed_in);
     QVERIFY(panel.statusText().contains(QStringLiteral("Dialed in")));
-    QCOMPARE(*panel.speedDial()->limit(), 2.0);
+    QCOMPARE(*panel.speedDial()->limit(), 1.5);
     QCOMPARE(*panel.accelDial()->limit(), 3.0);
 
     const QImage after = dial->grab().toImage();
 
-    // Speed dial (0-3 m/s, limit 2): 0.5 is safe, 1.9 marginal (>= 1.7), 2.6 failing.
+    // Speed dial (0.1-2 m/s, limit 1.5): 0.5 is safe, 1.4 marginal (>= 1.275), 1.8 failing.
     QVERIFY(distance(pixelAt(after, dial->arcPoint(0.5)), safe) < 40);
-    QVERIFY(distance(pixelAt(after, dial->arcPoint(1.9)),
+    QVERIFY(distance(pixelAt(after, dial->arcPoint(1.4)),
                      EnvelopeDial::zoneColor(DialZone::marginal)) < 40);
-    QVERIFY(distance(pixelAt(after, dial->arcPoint(2.6)), failing) < 40);
+    QVERIFY(distance(pixelAt(after, dial->arcPoint(1.8)), failing) < 40);
     const QImage accel = panel.accelDial()->grab().toImage();
     QVERIFY(distance(pixelAt(accel, panel.accelDial()->arcPoint(3.5)), failing) < 40);
 
@@ -117,26 +118,32 @@ class TestDialPanel : public QObject {
     QVERIFY(!panel.speedDial()->limit());
   }
 
-  // A dialled point above the analysed range is said to be outside it once the limits show.
-  void aPointBeyondTheAnalysedRangeIsSaidToBe() {
-    DialPanel panel;
-    panel.setAnalysedRange(2.0, 5.0);
-    panel.setSpeed(2.5);
-    panel.setAccel(4.0);
-    panel.dispatch();
-    panel.setEnvelope(envelope());
-    panel.setOutcome(true, FailureMode::no_failure);
-    panel.replayFinished();
-    QVERIFY2(panel.limitsText().contains(QStringLiteral("2.50 m/s is above the 2.0 m/s analysed")),
-             qPrintable(panel.limitsText()));
-    QVERIFY(!panel.limitsText().contains(QStringLiteral("m/s² is above")));
-    panel.resetRound();
-    panel.setSpeed(1.0);
-    panel.dispatch();
-    panel.setEnvelope(envelope());
-    panel.setOutcome(true, FailureMode::no_failure);
-    panel.replayFinished();
-    QVERIFY(!panel.limitsText().contains(QStringLiteral("Outside")));
+  // One range: the dials span the search's (the limits speak about every point they can dial),
+  // and every curated scenario's suggested profile can be dialled exactly.
+  void theDialsSpanTheAnalysedRange() {
+    const pb::SearchConfig range;
+    DialPanel panel(range);
+    QCOMPARE(panel.speedDial()->minPhysical(), range.speed_min_mps);
+    QCOMPARE(panel.speedDial()->maxPhysical(), range.speed_max_mps);
+    QCOMPARE(panel.accelDial()->maxPhysical(), range.accel_max_mps2);
+    QCOMPARE(panel.speedSpin()->maximum(), range.speed_max_mps);
+    QCOMPARE(panel.accelSpin()->minimum(), range.accel_min_mps2);
+    panel.setAccel(0.0);
+    QCOMPARE(panel.accel(), range.accel_min_mps2);
+    for (const pb::Scenario& s : pb::all_scenarios()) {
+      panel.setSpeed(s.suggested_profile.target_speed_mps);
+      panel.setAccel(s.suggested_profile.accel_mps2);
+      QVERIFY2(panel.speed() == s.suggested_profile.target_speed_mps &&
+                   panel.accel() == s.suggested_profile.accel_mps2,
+               s.slug.c_str());
+    }
+    // Another range re-ranges the dials (e.g. a line that runs to 3 m/s).
+    pb::SearchConfig faster;
+    faster.speed_max_mps = 3.0;
+    DialPanel wide(faster);
+    wide.setSpeed(99.0);
+    QCOMPARE(wide.speed(), 3.0);
+    QCOMPARE(wide.speedDial()->value(), 300);
   }
 
   void crashedRoundSaysSo() {

@@ -270,9 +270,15 @@ class TestGlConsole : public QObject {
                 .startsWith(QStringLiteral("--profile-speed:")));
     QVERIFY(parse(ok, QStringLiteral("9"), failure, size, window)
                 .startsWith(QStringLiteral("--profile-speed:")));
-    // The console's range, as the dials have it (it was 5 m/s here, 3 on the dial).
-    QVERIFY(parse(ok, QStringLiteral("5"), failure, size, window)
-                .contains(QStringLiteral("above the console's range (up to 3 m/s)")));
+    // One range: the dials', the search's and the map's (it was 5 m/s here, 3 on the dial, 2 in
+    // the search).
+    QCOMPARE(parse(ok, QStringLiteral("2.5"), failure, size, window),
+             QStringLiteral("--profile-speed: 2.5 m/s is outside the analysed range; give 0.1 to 2 "
+                            "m/s (the dials, the search and the failure map share it)"));
+    QVERIFY(pb::ui::ConsoleRequest::parse(ok, {}, QStringLiteral("6"), QStringLiteral("x.png"),
+                                          failure, size, window, r)
+                .startsWith(QStringLiteral("--profile-accel: 6 m/s^2 is outside the analysed "
+                                           "range; give 0.1 to 5 m/s^2")));
     QVERIFY(
         parse(ok, {}, QStringLiteral("soon"), size, window).startsWith(QStringLiteral("--at:")));
     QVERIFY(parse(ok, {}, failure, QStringLiteral("10x10"), window)
