@@ -42,7 +42,7 @@ DialScore score_dispatch(const ConveyorProfile& dialled, bool survived, FailureM
   s.accel_fraction = fraction_of(dialled.accel_mps2, envelope.max_accel_mps2);
   const double dared = std::min(s.speed_fraction, s.accel_fraction);
   s.fraction = std::clamp(dared, 0.0, 1.0);
-  if (envelope.verdict == "reject") {
+  if (envelope.verdict == Verdict::reject) {
     s.verdict = DialScore::Verdict::reject;
     s.grade = 'F';
     s.failure_mode = survived ? envelope.dominant_failure_mode : mode;

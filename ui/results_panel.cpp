@@ -24,14 +24,6 @@ QString modeWords(FailureMode mode) {
   return QString::fromUtf8(words.data(), static_cast<qsizetype>(words.size()));
 }
 
-/// What set the speed limit, in words ("estop" -> "the line's e-stop").
-QString governorWords(const std::string& by) {
-  if (by == "estop") return QObject::tr("the line's e-stop");
-  if (by == "curve") return QObject::tr("the tightest curve");
-  if (by == "ceiling") return QObject::tr("the top of the search range");
-  return QString::fromStdString(by);
-}
-
 QColor gradeColor(char letter) {
   switch (letter) {
     case 'A':
@@ -129,7 +121,7 @@ void ResultsPanel::showProvisional() {
   setResult(_estimate);
   _provisional = true;
   const SafetyResult& r = _estimate;
-  if (r.verdict == "reject" || r.dominant_failure_mode == FailureMode::cannot_stand) {
+  if (r.verdict == Verdict::reject || r.dominant_failure_mode == FailureMode::cannot_stand) {
     _limits->setText(tr("<i>Provisional: the closed-form estimate, before any simulation; the "
                         "analysis replaces it.</i><br>") +
                      _limits->text());
@@ -172,7 +164,7 @@ void ResultsPanel::setResult(const SafetyResult& r) {
     _limits->setText(
         tr("<b>Build defect:</b> the load cannot stand on a still belt, so no "
            "conveyor limit is given. Re-stack it and analyse again."));
-  } else if (r.verdict == "reject") {
+  } else if (r.verdict == Verdict::reject) {
     _limits->setText(tr("No safe motion: <b>%1</b> even at the gentlest setting.")
                          .arg(modeWords(r.dominant_failure_mode)));
   } else {
@@ -180,7 +172,8 @@ void ResultsPanel::setResult(const SafetyResult& r) {
         tr("Speed up to <b>%1 m/s</b> (set by %2) · start-up up to <b>%3 m/s²</b> · stops "
            "up to <b>%4 m/s²</b> · curves up to <b>%5 g</b><br>First to go: <b>%6</b> · margin "
            "%7 % · %8")
-            .arg(num(r.max_speed_mps, 2), governorWords(r.speed_governed_by),
+            .arg(num(r.max_speed_mps, 2),
+                 QString::fromUtf8(pb::governor_words(r.speed_governed_by)),
                  num(r.max_accel_mps2, 1), num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
                  modeWords(r.dominant_failure_mode), num(r.margin_pct, 0))
             .arg(r.sims_run > 0 ? tr("%1 simulations").arg(r.sims_run)

@@ -86,7 +86,7 @@ Json analyse(const PalletConfig& config) {
   row["sims"] = env->result.sims_run;
   row["envelope_ms"] = ms;
   row["fidelity"] = env->result.fidelity;
-  row["verdict"] = env->result.verdict;
+  row["verdict"] = to_string(env->result.verdict);
   row["max_accel_mps2"] = env->result.max_accel_mps2;
   row["max_lateral_g"] = env->result.max_lateral_g;
   return row;

@@ -363,7 +363,7 @@ Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity, bool 
           {"sims_run", last.result.sims_run},
           {"max_speed_mps", last.result.max_speed_mps},
           {"max_accel_mps2", last.result.max_accel_mps2},
-          {"verdict", last.result.verdict},
+          {"verdict", to_string(last.result.verdict)},
           {"ref_ms", reference ? Json(median(ref_ms)) : Json(nullptr)},
           {"ref_sims", reference ? Json(ref_sims) : Json(nullptr)},
           {"ratio", reference ? Json(median(ref_ms) / median(envelope_ms)) : Json(nullptr)}};

@@ -20,8 +20,8 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 // A load that cannot stand gets no conveyor limit: a reject whose reason is the build defect.
 SafetyResult cannot_stand_result(const StandFailure& defect, const LineDescription& line) {
   SafetyResult r;
-  r.verdict = "reject";
-  r.speed_governed_by = "build_defect";
+  r.verdict = Verdict::reject;
+  r.speed_governed_by = SpeedGovernor::build_defect;
   r.dominant_failure_mode = FailureMode::cannot_stand;
   r.accel_mode = r.decel_mode = r.lateral_mode = r.speed_mode = FailureMode::cannot_stand;
   std::string sentence = defect.sentence;
@@ -230,7 +230,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   env->result.config_hash = p.fingerprint;
   env->result.fidelity = std::string(to_string(p.fidelity.level));
   env->result.sim_runtime_ms = ms_since(start);
-  if (options_.confidence.samples > 0 && env->result.verdict != "reject") {
+  if (options_.confidence.samples > 0 && env->result.verdict != Verdict::reject) {
     auto c = limits_confidence(*p.scene, *env, options_.line, options_.search, options_.confidence,
                                options_.sim);
     if (!c) return Result<Envelope>::failure(std::move(c.diagnostics));

@@ -22,6 +22,24 @@
 
 namespace pb {
 
+std::string_view governor_words(SpeedGovernor by) {
+  switch (by) {
+    case SpeedGovernor::estop:
+      return "the line's e-stop";
+    case SpeedGovernor::curve:
+      return "the tightest curve";
+    case SpeedGovernor::ceiling:
+      return "the top of the search range";
+    case SpeedGovernor::reject:
+      return "a pallet unsafe at any motion";
+    case SpeedGovernor::build_defect:
+      return "a load that cannot stand";
+    case SpeedGovernor::unset:
+      break;
+  }
+  return "nothing yet (not analysed)";
+}
+
 std::string_view to_string(Axis axis) {
   switch (axis) {
     case Axis::accel:
@@ -898,11 +916,11 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
     r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
     r.speed_mode = env.lateral.mode;
-    r.speed_governed_by = "curve";
+    r.speed_governed_by = SpeedGovernor::curve;
   } else {
     r.max_speed_mps = stop_speed;
     r.speed_mode = env.speed.mode;
-    r.speed_governed_by = env.speed.at_ceiling ? "ceiling" : "estop";
+    r.speed_governed_by = env.speed.at_ceiling ? SpeedGovernor::ceiling : SpeedGovernor::estop;
   }
   r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
 
@@ -933,8 +951,8 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     }
   }
   if (floor_axis != nullptr) {
-    r.verdict = "reject";
-    r.speed_governed_by = "reject";
+    r.verdict = Verdict::reject;
+    r.speed_governed_by = SpeedGovernor::reject;
     r.max_speed_mps = 0.0;
     r.dominant_failure_mode = floor_axis->axis->mode;
     r.margin_pct = 0.0;
@@ -942,11 +960,10 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
                floor_axis->name + " tried (" + std::string(mode_words(floor_axis->axis->mode)) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {
-    r.verdict = "ok";
+    r.verdict = Verdict::ok;
     std::ostringstream why;
-    const std::string governed = r.speed_governed_by == "estop"   ? "set by the line's e-stop"
-                                 : r.speed_governed_by == "curve" ? "set by the tightest curve"
-                                                                  : "the top of the search range";
+    const std::string governed = (r.speed_governed_by == SpeedGovernor::ceiling ? "" : "set by ") +
+                                 std::string(governor_words(r.speed_governed_by));
     why << "Start-up to " << fixed(s.speed_max_mps, 1) << " m/s at up to "
         << fixed(r.max_accel_mps2, 1) << " m/s^2"
         << (env.accel.at_ceiling ? " (the top of the range)"

@@ -77,6 +77,9 @@ struct SearchConfig {
 enum class Axis { accel, decel, lateral, speed };
 std::string_view to_string(Axis axis);
 
+/// What set a speed limit, in a supervisor's words ("the line's e-stop").
+std::string_view governor_words(SpeedGovernor by);
+
 /// One simulation of the search.
 struct Probe {
   Axis axis = Axis::accel;

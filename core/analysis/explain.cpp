@@ -73,7 +73,7 @@ Grade grade(const SafetyResult& r) {
             "It cannot stand even on a still belt; re-stack it before anything else. No conveyor "
             "limit applies."};
   }
-  if (r.verdict == "reject") {
+  if (r.verdict == Verdict::reject) {
     return {'R', "Reject and re-wrap",
             "No motion is safe: re-stack or re-wrap before it enters the conveyor."};
   }

@@ -132,7 +132,7 @@ Result<UncertaintyResult> limits_confidence(const Scene& scene, const Envelope& 
                                             const UncertaintyOptions& options,
                                             const SimOptions& sim) {
   const SafetyResult& r = env.result;
-  if (r.verdict == "reject") {
+  if (r.verdict == Verdict::reject) {
     UncertaintyResult none;
     none.p_fail = 1.0;
     none.ci_low = none.ci_high = 1.0;

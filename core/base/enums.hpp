@@ -29,6 +29,12 @@ enum class PalletType { eur, gma, chep };
 enum class BeltSurface { rubber_belt, steel_roller };
 /// Layer patterns a scanner reports.
 enum class LayerPattern { column, brick, pinwheel, irregular };
+/// A SafetyResult's verdict: ok, or reject (unsafe at any motion, or a load that cannot stand).
+enum class Verdict { ok, reject };
+/// What sets a SafetyResult's max_speed_mps: the line's e-stop, its tightest curve, the top of the
+/// search range, a rejected pallet or a build defect (both 0). `unset` only in a result
+/// no analysis produced.
+enum class SpeedGovernor { unset, estop, curve, ceiling, reject, build_defect };
 
 template <class E>
 struct EnumName {
@@ -99,6 +105,22 @@ struct EnumTable<LayerPattern> {
        {LayerPattern::brick, "brick"},
        {LayerPattern::pinwheel, "pinwheel"},
        {LayerPattern::irregular, "irregular"}}};
+};
+
+template <>
+struct EnumTable<Verdict> {
+  static constexpr std::array<EnumName<Verdict>, 2> names{
+      {{Verdict::ok, "ok"}, {Verdict::reject, "reject"}}};
+};
+template <>
+struct EnumTable<SpeedGovernor> {
+  static constexpr std::array<EnumName<SpeedGovernor>, 6> names{
+      {{SpeedGovernor::unset, "unset"},
+       {SpeedGovernor::estop, "estop"},
+       {SpeedGovernor::curve, "curve"},
+       {SpeedGovernor::ceiling, "ceiling"},
+       {SpeedGovernor::reject, "reject"},
+       {SpeedGovernor::build_defect, "build_defect"}}};
 };
 
 /// The JSON name of a value.

@@ -31,8 +31,8 @@ struct SafetyResult {
   FailureMode decel_mode = FailureMode::no_failure;
   FailureMode lateral_mode = FailureMode::no_failure;
   FailureMode speed_mode = FailureMode::no_failure;
-  std::string speed_governed_by;       ///< "estop", "curve", "ceiling" or "reject"
-  std::string verdict = "ok";          ///< "ok", or "reject": unsafe at any motion
+  SpeedGovernor speed_governed_by = SpeedGovernor::unset;
+  Verdict verdict = Verdict::ok;       ///< reject: unsafe at any motion, or it cannot stand
   std::string reason;                  ///< one sentence a supervisor reads
   double line_estop_decel_mps2 = 0.0;  ///< the line description the speed was derived from
   double line_curve_radius_m = 0.0;

@@ -50,8 +50,8 @@ void summarise(BatchStudy& study) {
     const SafetyResult& r = *e.result;
     study.sims += r.sims_run;
     ++study.dominant_modes[std::string(to_string(r.dominant_failure_mode))];
-    ++study.speed_governed_by[r.speed_governed_by];
-    if (r.verdict == "reject") {
+    ++study.speed_governed_by[std::string(to_string(r.speed_governed_by))];
+    if (r.verdict == Verdict::reject) {
       ++study.rejects;
       ++study.reject_modes[std::string(to_string(r.dominant_failure_mode))];
       continue;

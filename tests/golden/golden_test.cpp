@@ -30,14 +30,14 @@ Json envelope_digest(const Envelope& e) {
     probes.push_back({to_string(p.axis), p.value, to_string(p.outcome), to_string(p.mode),
                       p.failure_time_s, p.steps, p.sim_time_s});
   }
-  return {{"verdict", r.verdict},
+  return {{"verdict", to_string(r.verdict)},
           {"fidelity", r.fidelity},
           {"max_speed_mps", r.max_speed_mps},
           {"max_accel_mps2", r.max_accel_mps2},
           {"max_decel_mps2", r.max_decel_mps2},
           {"max_lateral_g", r.max_lateral_g},
           {"dominant_failure_mode", to_string(r.dominant_failure_mode)},
-          {"speed_governed_by", r.speed_governed_by},
+          {"speed_governed_by", to_string(r.speed_governed_by)},
           {"sims_run", r.sims_run},
           {"probes", probes}};
 }

@@ -92,7 +92,7 @@ class TestAnalysisService : public QObject {
     QVERIFY(result.sims_run > 0);  // a real search, not a cache hit
     QCOMPARE(result.pallet_id, std::string("tall-unwrapped-tower"));
     QCOMPARE(result.dominant_failure_mode, pb::FailureMode::top_item_slide);
-    QCOMPARE(result.verdict, std::string("ok"));
+    QCOMPARE(result.verdict, pb::Verdict::ok);
     QCOMPARE(emittedOn, QCoreApplication::instance()->thread());
     // The search takes seconds; a blocked GUI thread would count one or two ticks in that time.
     qInfo("analysis took %lld ms; the 10 ms timer ticked %d times", elapsed, ticks);

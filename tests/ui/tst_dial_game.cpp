@@ -101,7 +101,7 @@ class TestDialGame : public QObject {
 
   void rejectScoresNothingEvenWhenItSurvived() {
     SafetyResult r = envelope(0.0, 0.0);
-    r.verdict = "reject";
+    r.verdict = Verdict::reject;
     r.dominant_failure_mode = FailureMode::load_shift;
     const DialScore s = score_dispatch(dialled(0.3, 0.3), true, FailureMode::no_failure, r);
     QCOMPARE(s.verdict, DialScore::Verdict::reject);

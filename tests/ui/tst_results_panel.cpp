@@ -21,7 +21,7 @@ SafetyResult okResult() {
   r.max_decel_mps2 = 2.9;
   r.max_lateral_g = 0.21;
   r.dominant_failure_mode = FailureMode::top_item_slide;
-  r.speed_governed_by = "estop";
+  r.speed_governed_by = SpeedGovernor::estop;
   r.margin_pct = 42.0;
   r.sims_run = 17;
   r.reason = "Start-up to 3.4 m/s^2 (then top_item_slide).";
@@ -84,8 +84,8 @@ class TestResultsPanel : public QObject {
   void buildDefectShowsNoLimits() {
     ResultsPanel panel;
     SafetyResult r;
-    r.verdict = "reject";
-    r.speed_governed_by = "build_defect";
+    r.verdict = Verdict::reject;
+    r.speed_governed_by = SpeedGovernor::build_defect;
     r.dominant_failure_mode = r.accel_mode = r.decel_mode = r.lateral_mode = r.speed_mode =
         FailureMode::cannot_stand;
     r.reason =
@@ -105,7 +105,7 @@ class TestResultsPanel : public QObject {
   void rejectSaysRejectAndRewrap() {
     ResultsPanel panel;
     SafetyResult r = okResult();
-    r.verdict = "reject";
+    r.verdict = Verdict::reject;
     r.max_speed_mps = 0.0;
     r.dominant_failure_mode = FailureMode::load_shift;
     panel.setResult(r);

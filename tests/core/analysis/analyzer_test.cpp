@@ -98,8 +98,8 @@ class AnalyzerTest : public QObject {
     QVERIFY(without_runtime(*a) == without_runtime(*b));
     qInfo("%d sims: accel %.2f (%s), decel %.2f, lateral %.2f g, speed %.2f (%s), %.0f ms",
           a->sims_run, a->max_accel_mps2, std::string(to_string(a->accel_mode)).c_str(),
-          a->max_decel_mps2, a->max_lateral_g, a->max_speed_mps, a->speed_governed_by.c_str(),
-          a->sim_runtime_ms);
+          a->max_decel_mps2, a->max_lateral_g, a->max_speed_mps,
+          std::string(to_string(a->speed_governed_by)).c_str(), a->sim_runtime_ms);
   }
 
   // Solving the same profile twice, in a fresh analyzer and again on its reused simulator, gives
@@ -283,10 +283,10 @@ class AnalyzerTest : public QObject {
     Analyzer analyzer(options, friction());
     const auto r = analyzer.analyze(config);
     QVERIFY2(r, describe(r.diagnostics).c_str());
-    QCOMPARE(r->verdict, std::string("reject"));
+    QCOMPARE(r->verdict, Verdict::reject);
     QCOMPARE(r->dominant_failure_mode, FailureMode::cannot_stand);
     QCOMPARE(r->accel_mode, FailureMode::cannot_stand);
-    QCOMPARE(r->speed_governed_by, std::string("build_defect"));
+    QCOMPARE(r->speed_governed_by, SpeedGovernor::build_defect);
     QCOMPARE(r->sims_run, 1);
     QVERIFY2(r->reason.find("Item 1 (TEST) cannot stand: with the belt standing still") == 0 ||
                  r->reason.find("Reject, build defect: Item 1 (TEST) cannot stand") == 0,

@@ -238,14 +238,14 @@ class EnvelopeTest : public QObject {
     QCOMPARE(env->speed.probes, 0);
 
     const SafetyResult& r = env->result;
-    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.verdict, Verdict::ok);
     QCOMPARE(r.max_accel_mps2, env->accel.limit);
     QCOMPARE(r.max_decel_mps2, env->decel.limit);
     QCOMPARE(r.max_lateral_g, env->lateral.limit);
     QCOMPARE(r.accel_mode, FailureMode::top_item_slide);
     // The curve at 0.3 g allows sqrt(0.3 g 3) = 2.97 m/s > 2: the speed is the ceiling.
     QCOMPARE(r.max_speed_mps, 2.0);
-    QCOMPARE(r.speed_governed_by, std::string("ceiling"));
+    QCOMPARE(r.speed_governed_by, SpeedGovernor::ceiling);
     QCOMPARE(r.line_estop_decel_mps2, 2.0);
     QCOMPARE(r.line_curve_radius_m, 3.0);
     // The tightest axis relative to its range is the curve: (0.30 - 0.01) / 0.49 = 59 %.
@@ -303,11 +303,11 @@ class EnvelopeTest : public QObject {
     QVERIFY(env->accel.closed_form < search_.accel_min_mps2 + 1e-6);
     QCOMPARE(env->accel.probes, 2);
     const SafetyResult& r = env->result;
-    QCOMPARE(r.verdict, std::string("reject"));
+    QCOMPARE(r.verdict, Verdict::reject);
     QCOMPARE(r.dominant_failure_mode, FailureMode::top_item_slide);
     QCOMPARE(r.max_speed_mps, 0.0);
     QCOMPARE(r.margin_pct, 0.0);
-    QCOMPARE(r.speed_governed_by, std::string("reject"));
+    QCOMPARE(r.speed_governed_by, SpeedGovernor::reject);
     QVERIFY2(r.reason.starts_with("Reject: unsafe at any motion; it fails at the gentlest start-up "
                                   "tried (an item slides off)."),
              r.reason.c_str());
@@ -378,14 +378,14 @@ class EnvelopeTest : public QObject {
     QVERIFY(env->decel.derived && env->speed.derived);
     QCOMPARE(env->probes.size(), std::size_t{2});
     const SafetyResult& r = env->result;
-    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.verdict, Verdict::ok);
     QCOMPARE(r.dominant_failure_mode, FailureMode::no_failure);
     QCOMPARE(r.margin_pct, 100.0);
     QCOMPARE(r.max_accel_mps2, 5.0);
     QCOMPARE(r.max_decel_mps2, 5.0);
     QCOMPARE(r.max_lateral_g, 0.5);
     QCOMPARE(r.max_speed_mps, 2.0);
-    QCOMPARE(r.speed_governed_by, std::string("ceiling"));
+    QCOMPARE(r.speed_governed_by, SpeedGovernor::ceiling);
   }
 
   // A probe MuJoCo breaks (here: a belt drive that Euler cannot integrate, kv dt / M = 4) gives

@@ -61,7 +61,7 @@ class ExplainTest : public QObject {
     r.max_speed_mps = 0.8;
     QCOMPARE(grade(r).letter, 'C');
     QVERIFY(q(grade(r).advice).contains(QStringLiteral("0.80 m/s")));
-    r.verdict = "reject";
+    r.verdict = Verdict::reject;
     QCOMPARE(grade(r).letter, 'R');
     QCOMPARE(q(grade(r).label), QStringLiteral("Reject and re-wrap"));
   }

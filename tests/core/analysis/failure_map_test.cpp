@@ -282,12 +282,13 @@ class FailureMapTest : public QObject {
         "%s: accel map %.2f bisection %.2f (step %.2f); speed map %.2f bisection %.2f (%s, step "
         "%.2f); %d sims in %.0f ms; %d non-monotone",
         qPrintable(slug), map.value->max_accel_mps2, r.max_accel_mps2, accel_step,
-        map.value->max_speed_mps, r.max_speed_mps, r.speed_governed_by.c_str(), speed_step,
-        map.value->sims, map.value->wall_ms, map.value->non_monotone_cells);
+        map.value->max_speed_mps, r.max_speed_mps,
+        std::string(to_string(r.speed_governed_by)).c_str(), speed_step, map.value->sims,
+        map.value->wall_ms, map.value->non_monotone_cells);
     QCOMPARE(map.value->unstable_cells, 0);
     QVERIFY(std::abs(map.value->max_accel_mps2 - env.value->accel.limit) <=
             accel_step + s.accel_precision_mps2 + 1e-9);
-    if (r.verdict != "reject") {
+    if (r.verdict != Verdict::reject) {
       QVERIFY(std::abs(map.value->max_speed_mps - r.max_speed_mps) <=
               speed_step + s.speed_precision_mps + 1e-9);
     }

@@ -137,7 +137,7 @@ class UncertaintyTest : public QObject {
     auto env = with.envelope(config);
     QVERIFY(env);
     const SafetyResult& r = env->result;
-    QCOMPARE(r.verdict, std::string("ok"));
+    QCOMPARE(r.verdict, Verdict::ok);
     QCOMPARE(r.max_accel_mps2, base->max_accel_mps2);
     QCOMPARE(r.sims_run, base->sims_run + 4 * 8);
     QVERIFY(r.confidence >= 0.0 && r.confidence <= 1.0);

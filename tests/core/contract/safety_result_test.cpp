@@ -26,8 +26,8 @@ SafetyResult sample() {
   r.decel_mode = FailureMode::top_item_slide;
   r.lateral_mode = FailureMode::pallet_slip;
   r.speed_mode = FailureMode::top_item_slide;
-  r.speed_governed_by = "estop";
-  r.verdict = "ok";
+  r.speed_governed_by = SpeedGovernor::estop;
+  r.verdict = Verdict::ok;
   r.reason = "the top layer slides first in a stop";
   r.line_estop_decel_mps2 = 3.5;
   r.line_curve_radius_m = 2.0;
@@ -130,6 +130,23 @@ class SafetyResultTest : public QObject {
     QCOMPARE(read.diagnostics[0].pointer, std::string("/dominant_failure_mode"));
     QVERIFY(read.diagnostics[0].message.find(enum_choices<FailureMode>()) != std::string::npos);
     QCOMPARE(read.diagnostics[1].pointer, std::string("/sims_run"));
+  }
+
+  // The verdict and what governs the speed are enums: a value outside them is named, with the
+  // choices, instead of being carried as a string nobody compares correctly.
+  void verdictAndGovernorAreChecked() {
+    Json json = safety_result_to_json(sample());
+    QCOMPARE(json["verdict"], "ok");
+    QCOMPARE(json["speed_governed_by"], "estop");
+    json["verdict"] = "maybe";
+    json["speed_governed_by"] = "luck";
+    const auto read = safety_result_from_json(json);
+    QVERIFY(!read.ok());
+    QCOMPARE(read.diagnostics.size(), std::size_t{2});
+    QCOMPARE(read.diagnostics[0].pointer, std::string("/speed_governed_by"));
+    QVERIFY(read.diagnostics[0].message.find(enum_choices<SpeedGovernor>()) != std::string::npos);
+    QCOMPARE(read.diagnostics[1].pointer, std::string("/verdict"));
+    QVERIFY(read.diagnostics[1].message.find(enum_choices<Verdict>()) != std::string::npos);
   }
 };
 

@@ -163,7 +163,7 @@ class StudyTest : public QObject {
     QVERIFY(std::abs(lateral.worst_steps - 3.5) < 1e-9);
 
     SafetyResult rejected = ref;
-    rejected.verdict = "reject";
+    rejected.verdict = Verdict::reject;
     const EnvelopeComparison verdict = compare_envelopes(ref, rejected);
     QVERIFY(!verdict.verdict_agrees);
     QVERIFY(!verdict.within_one_step);
