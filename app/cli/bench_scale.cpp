@@ -85,7 +85,7 @@ Json analyse(const PalletConfig& config) {
   row["us_per_step"] = steps > 0 ? 1000.0 * wall / double(steps) : 0.0;
   row["sims"] = env->result.sims_run;
   row["envelope_ms"] = ms;
-  row["fidelity"] = env->result.fidelity;
+  row["fidelity"] = to_string(env->result.fidelity);
   row["verdict"] = to_string(env->result.verdict);
   row["max_accel_mps2"] = env->result.max_accel_mps2;
   row["max_lateral_g"] = env->result.max_lateral_g;

@@ -176,8 +176,8 @@ void write_samples_csv(const fs::path& path, const std::vector<StudySample>& sam
     out << csv_field(s.pallet) << "," << csv_field(s.config) << ",";
     if (s.result) {
       const SafetyResult& r = *s.result;
-      out << r.fidelity << "," << fixed(s.wall_ms, 3) << "," << fixed(s.cpu_ms, 3) << "," << s.sims
-          << "," << to_string(r.verdict) << "," << fixed(r.max_accel_mps2, 4) << ","
+      out << to_string(r.fidelity) << "," << fixed(s.wall_ms, 3) << "," << fixed(s.cpu_ms, 3) << ","
+          << s.sims << "," << to_string(r.verdict) << "," << fixed(r.max_accel_mps2, 4) << ","
           << fixed(r.max_decel_mps2, 4) << "," << fixed(r.max_lateral_g, 4) << ","
           << fixed(r.max_speed_mps, 4) << "," << to_string(r.accel_mode) << ","
           << to_string(r.decel_mode) << "," << to_string(r.lateral_mode) << ","

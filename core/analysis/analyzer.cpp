@@ -206,7 +206,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     env.result = cannot_stand_result(*p.rest.cannot_stand, options_.line);
     env.result.pallet_id = config.pallet_id;
     env.result.config_hash = p.fingerprint;
-    env.result.fidelity = std::string(to_string(p.fidelity.level));
+    env.result.fidelity = p.fidelity.level;
     env.result.sim_runtime_ms = ms_since(start);
     env.rest = p.rest;
     results_.insert_or_assign(p.fingerprint, env.result);
@@ -228,7 +228,7 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   env->rest = p.rest;  // the whole load's, whatever model the probes ran on
   env->result.pallet_id = config.pallet_id;
   env->result.config_hash = p.fingerprint;
-  env->result.fidelity = std::string(to_string(p.fidelity.level));
+  env->result.fidelity = p.fidelity.level;
   env->result.sim_runtime_ms = ms_since(start);
   if (options_.confidence.samples > 0 && env->result.verdict != Verdict::reject) {
     auto c = limits_confidence(*p.scene, *env, options_.line, options_.search, options_.confidence,

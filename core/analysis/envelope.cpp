@@ -1030,7 +1030,7 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
                                s.speed_precision_mps);
   summarise(env, line, s);
   stamp_sims_and_time(env, start);
-  env.result.fidelity = std::string(to_string(Fidelity::closed_form));
+  env.result.fidelity = Fidelity::closed_form;
   return env;
 }
 

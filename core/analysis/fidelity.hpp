@@ -18,17 +18,6 @@
 
 namespace pb {
 
-enum class Fidelity { automatic, closed_form, reduced, clustered, full };
-
-template <>
-struct EnumTable<Fidelity> {
-  static constexpr std::array<EnumName<Fidelity>, 5> names{{{Fidelity::automatic, "auto"},
-                                                            {Fidelity::closed_form, "closed_form"},
-                                                            {Fidelity::reduced, "reduced"},
-                                                            {Fidelity::clustered, "clustered"},
-                                                            {Fidelity::full, "full"}}};
-};
-
 /// The clustered rung's margin: an item is merged into what carries it when each of its onsets is
 /// at least this many times the most the load can be accelerated (clustering.hpp).
 inline constexpr double kClusterMargin = 1.25;

@@ -29,6 +29,9 @@ enum class PalletType { eur, gma, chep };
 enum class BeltSurface { rubber_belt, steel_roller };
 /// Layer patterns a scanner reports.
 enum class LayerPattern { column, brick, pinwheel, irregular };
+/// The model level that answers (core/analysis/fidelity.hpp): `automatic` asks for the cheapest
+/// whose agreement with the full model is established; a result names the level that ran.
+enum class Fidelity { automatic, closed_form, reduced, clustered, full };
 /// A SafetyResult's verdict: ok, or reject (unsafe at any motion, or a load that cannot stand).
 enum class Verdict { ok, reject };
 /// What sets a SafetyResult's max_speed_mps: the line's e-stop, its tightest curve, the top of the
@@ -107,6 +110,14 @@ struct EnumTable<LayerPattern> {
        {LayerPattern::irregular, "irregular"}}};
 };
 
+template <>
+struct EnumTable<Fidelity> {
+  static constexpr std::array<EnumName<Fidelity>, 5> names{{{Fidelity::automatic, "auto"},
+                                                            {Fidelity::closed_form, "closed_form"},
+                                                            {Fidelity::reduced, "reduced"},
+                                                            {Fidelity::clustered, "clustered"},
+                                                            {Fidelity::full, "full"}}};
+};
 template <>
 struct EnumTable<Verdict> {
   static constexpr std::array<EnumName<Verdict>, 2> names{

@@ -36,7 +36,7 @@ struct SafetyResult {
   std::string reason;                  ///< one sentence a supervisor reads
   double line_estop_decel_mps2 = 0.0;  ///< the line description the speed was derived from
   double line_curve_radius_m = 0.0;
-  std::string fidelity = "full";  ///< the model level that produced the result
+  Fidelity fidelity = Fidelity::full;  ///< the model level that produced the result
 
   bool operator==(const SafetyResult&) const = default;
 };

@@ -359,7 +359,7 @@ std::vector<StudySummary> summarize_study(const std::vector<StudyConfig>& config
       if (x.result) {
         wall.push_back(x.wall_ms);
         cpu.push_back(x.cpu_ms);
-        levels.insert(x.result->fidelity);
+        levels.insert(std::string(to_string(x.result->fidelity)));
       } else {
         ++s.errors;
       }

@@ -31,7 +31,7 @@ Json envelope_digest(const Envelope& e) {
                       p.failure_time_s, p.steps, p.sim_time_s});
   }
   return {{"verdict", to_string(r.verdict)},
-          {"fidelity", r.fidelity},
+          {"fidelity", to_string(r.fidelity)},
           {"max_speed_mps", r.max_speed_mps},
           {"max_accel_mps2", r.max_accel_mps2},
           {"max_decel_mps2", r.max_decel_mps2},

@@ -110,8 +110,8 @@ class FidelityTest : public QObject {
     auto a = full.envelope(config);
     auto b = reduced.envelope(config);
     QVERIFY(a.ok() && b.ok());
-    QCOMPARE(a->result.fidelity, std::string("full"));
-    QCOMPARE(b->result.fidelity, std::string("reduced"));
+    QCOMPARE(a->result.fidelity, Fidelity::full);
+    QCOMPARE(b->result.fidelity, Fidelity::reduced);
     QVERIFY((*reduced.prepare(config).value)->scene->layout.merged);
     // Each level steps at its own timestep: the reduced model at scene.timestep_s, the full one
     // at full_model_timestep_s (forced or chosen).
@@ -144,7 +144,7 @@ class FidelityTest : public QObject {
     Analyzer cf(o, friction_model());
     auto a = cf.envelope(config);
     QVERIFY(a.ok());
-    QCOMPARE(a->result.fidelity, std::string("closed_form"));
+    QCOMPARE(a->result.fidelity, Fidelity::closed_form);
     QCOMPARE(a->result.sims_run, 0);
     QVERIFY(a->probes.empty());
     const QuasiStaticBounds bounds = quasi_static_bounds(config, friction_of(config));

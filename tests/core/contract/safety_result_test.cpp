@@ -31,7 +31,7 @@ SafetyResult sample() {
   r.reason = "the top layer slides first in a stop";
   r.line_estop_decel_mps2 = 3.5;
   r.line_curve_radius_m = 2.0;
-  r.fidelity = "rigid";
+  r.fidelity = Fidelity::reduced;
   return r;
 }
 
@@ -68,7 +68,7 @@ class SafetyResultTest : public QObject {
                                 "speed_mode",
                                 "verdict"}));
     QCOMPARE(json["accel_mode"].get<std::string>(), std::string("tip_over"));
-    QCOMPARE(json["fidelity"].get<std::string>(), std::string("rigid"));
+    QCOMPARE(json["fidelity"].get<std::string>(), std::string("reduced"));
     QCOMPARE(json["dominant_failure_mode"].get<std::string>(), std::string("load_shift"));
     QCOMPARE(json["schema_version"].get<int>(), kSchemaVersion);
     QCOMPARE(json["sims_run"].get<int>(), 17);

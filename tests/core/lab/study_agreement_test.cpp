@@ -72,7 +72,7 @@ class StudyAgreementTest : public QObject {
     auto def = shipped.analyze(config);
     QVERIFY(ref.ok());
     QVERIFY(def.ok());
-    QCOMPARE(QString::fromStdString(def->fidelity), level);
+    QCOMPARE(QString::fromUtf8(to_string(def->fidelity)), level);
     const EnvelopeComparison c = compare_envelopes(*ref.value, *def.value);
     qInfo(
         "reference a %.3f d %.3f lat %.3f v %.2f | default a %.3f d %.3f lat %.3f v %.2f | "

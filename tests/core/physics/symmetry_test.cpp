@@ -123,7 +123,7 @@ class SymmetryTest : public QObject {
     check("curve", a->max_lateral_g, b->max_lateral_g, s.lateral_precision_g);
     check("speed", a->max_speed_mps, b->max_speed_mps, s.speed_precision_mps);
     QCOMPARE(a->accel_mode, b->accel_mode);
-    QCOMPARE(a->fidelity, std::string("full"));
+    QCOMPARE(a->fidelity, Fidelity::full);
     // The whole load's rest state, whatever model the probes ran on.
     auto envelope = reduced.envelope(c);
     QVERIFY(envelope);
