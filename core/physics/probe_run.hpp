@@ -14,7 +14,7 @@
 #include "core/contract/conveyor_profile.hpp"
 #include "core/physics/detectors.hpp"
 #include "core/physics/scene.hpp"
-#include "core/physics/simulate.hpp"
+#include "core/physics/sim_types.hpp"
 
 namespace pb {
 

@@ -11,18 +11,6 @@
 
 namespace pb {
 
-std::string_view to_string(Outcome outcome) {
-  switch (outcome) {
-    case Outcome::safe:
-      return "safe";
-    case Outcome::failed:
-      return "failed";
-    case Outcome::unstable:
-      return "unstable";
-  }
-  return "?";
-}
-
 Result<Simulator> Simulator::create(const Scene& scene) {
   auto data = make_data(scene.model.get());
   if (!data) return Result<Simulator>::failure(std::move(data.diagnostics));
