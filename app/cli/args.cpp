@@ -16,7 +16,8 @@ const OptionSpec* find_option(const VerbSpec& spec, const std::string& name) {
 }
 
 [[noreturn]] void fail(const VerbSpec& spec, const std::string& what) {
-  throw UsageError{spec.name + ": " + what + " (see 'palletballet-cli " + spec.name + " --help')"};
+  throw UsageError{spec.name + ": " + what + " (see '" + spec.program + " " + spec.name +
+                   " --help')"};
 }
 
 }  // namespace
@@ -108,7 +109,7 @@ std::optional<std::vector<double>> Args::numbers(const std::string& name) const 
 }
 
 std::string help_text(const VerbSpec& spec) {
-  std::string out = "usage: palletballet-cli " + spec.usage + "\n\n" + spec.summary + "\n";
+  std::string out = "usage: " + spec.program + " " + spec.usage + "\n\n" + spec.summary + "\n";
   if (!spec.options.empty()) out += "\noptions:\n";
   for (const auto& o : spec.options) {
     std::string left = "  --" + o.name + (o.value_name.empty() ? "" : " " + o.value_name);

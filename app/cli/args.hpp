@@ -24,6 +24,7 @@ struct VerbSpec {
   std::vector<OptionSpec> options;
   int min_positionals = 0;
   int max_positionals = 0;
+  std::string program = "palletballet-cli";  ///< the tool the verb belongs to (usage, errors)
 };
 
 /// Thrown by the accessors below for a bad value; main() turns it into a message and exit 2.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The verbs of palletballet-cli. Each prints JSON on stdout and errors on stderr, and returns the
-// exit code: 0 done, 2 bad input (usage or validation), 1 a failure of the run itself.
+// The verbs of palletballet-cli (and the shared parts palletballet-lab's build on). Each prints
+// JSON on stdout and errors on stderr, and returns the exit code: 0 done, 2 bad input (usage or
+// validation), 1 a failure of the run itself.
 #pragma once
 
 #include <functional>
@@ -32,13 +33,8 @@ std::vector<Command> data_commands();
 /// mjcf, solve, analyze, bench.
 std::vector<Command> physics_commands();
 
-/// study speed-accuracy | stability | convergence (app/cli/study_command.cpp).
-std::vector<Command> study_commands();
-
 /// map FILE: the failure map (app/cli/map_command.cpp).
 Command map_command();
-/// batch: the batch study of random pallets (app/cli/batch_command.cpp).
-Command batch_command();
 
 /// `bench batch`: the batch engine's scaling table (app/cli/bench_command.cpp).
 int run_bench_batch(const Args& args);
@@ -47,10 +43,6 @@ int run_bench_scale(const Args& args);
 /// Whole numbers from a list option, each in [lo, hi] (a UsageError otherwise), or `fallback`.
 std::vector<int> int_list(const Args& args, const std::string& name, std::vector<int> fallback,
                           int lo, int hi);
-
-/// `study standing`: validation's standing rule against the simulation
-/// (app/cli/study_standing.cpp).
-int run_study_standing(const Args& args);
 
 /// The random pallets' wrap from `--wrap none|shrink|stretch|banded|mixed` (mixed: nullopt, drawn
 /// per pallet), or `fallback` when the option is absent; a UsageError naming `command` otherwise.
@@ -77,5 +69,10 @@ void print_json(const Json& json);
 
 /// Prints each diagnostic as "pointer: message" on stderr.
 void print_diagnostics(const Diagnostics& diagnostics);
+
+/// A tool's main: runs the verb argv[1] names among `commands` with the rest of argv ("--help",
+/// "help" or nothing: the verbs' list, under `program`'s name). Returns the exit code.
+int run_verbs(const std::string& program, const std::vector<Command>& commands, int argc,
+              char** argv);
 
 }  // namespace pb::cli

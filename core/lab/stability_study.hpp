@@ -4,7 +4,7 @@
 // PGS/CG against Newton, contact buffers too small, elliptic against pyramidal), run on a probe
 // just below and one just above the pallet's threshold, and classified against the reference
 // configuration: correct, wrong verdict, or detected unstable. A numerically broken case must come
-// out detected unstable, never as a verdict. What `palletballet-cli study stability` runs.
+// out detected unstable, never as a verdict. What `palletballet-lab study stability` runs.
 #pragma once
 
 #include <string>

@@ -2,7 +2,7 @@
 // Speed against accuracy: the numerical configurations of an envelope (fidelity level x timestep x
 // cone/solver settings), the slow reference configuration that judges them, and the metrics of
 // the comparison (error in search steps, governing-mode agreement, median wall time, Pareto front).
-// What `palletballet-cli study speed-accuracy` and `study convergence` run.
+// What `palletballet-lab study speed-accuracy` and `study convergence` run.
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Runs palletballet-cli as a user would and collects what it printed.
+// Runs palletballet-cli (or palletballet-lab) as a user would and collects what it printed.
 #pragma once
 
 #include <QByteArray>
@@ -19,11 +19,12 @@ struct Run {
   QJsonDocument json() const { return QJsonDocument::fromJson(out); }
 };
 
-/// Runs the CLI; a run still going after `timeout_ms` is killed (exit_code -1).
-inline Run cli(const QStringList& args, const QByteArray& stdin_data = {},
-               int timeout_ms = 120000) {
+/// Runs `program` from the build's bin folder; a run still going after `timeout_ms` is killed
+/// (exit_code -1).
+inline Run run_tool(const QString& program, const QStringList& args,
+                    const QByteArray& stdin_data = {}, int timeout_ms = 120000) {
   QProcess p;
-  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
+  p.setProgram(QStringLiteral(PB_BIN_DIR "/") + program);
   p.setArguments(args);
   p.start();
   if (!stdin_data.isEmpty()) p.write(stdin_data);
@@ -37,6 +38,18 @@ inline Run cli(const QStringList& args, const QByteArray& stdin_data = {},
   r.out = p.readAllStandardOutput();
   r.err = p.readAllStandardError();
   return r;
+}
+
+/// Runs palletballet-cli.
+inline Run cli(const QStringList& args, const QByteArray& stdin_data = {},
+               int timeout_ms = 120000) {
+  return run_tool(QStringLiteral("palletballet-cli"), args, stdin_data, timeout_ms);
+}
+
+/// Runs palletballet-lab (the studies).
+inline Run lab(const QStringList& args, const QByteArray& stdin_data = {},
+               int timeout_ms = 120000) {
+  return run_tool(QStringLiteral("palletballet-lab"), args, stdin_data, timeout_ms);
 }
 
 inline QString write_file(const QTemporaryDir& dir, const QString& name, const QByteArray& data) {

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
-// Fuzz target: palletballet-cli's command line. The input is argv after the program name, its
-// arguments separated by NUL bytes; the first names the verb (an unknown one is matched to a verb
-// by its first byte, so every verb's options are reached). Parses them against the verb's real
-// specification and reads every option as each accessor would (text, number, integer, list):
-// anything may be a UsageError, nothing may crash or throw anything else. Commands are not run.
+// Fuzz target: palletballet-cli's and palletballet-lab's command lines. The input is argv after the
+// program name, its arguments separated by NUL bytes; the first names the verb (an unknown one is
+// matched to a verb by its first byte, so every verb's options are reached). Parses them against
+// the verb's real specification and reads every option as each accessor would (text, number,
+// integer, list): anything may be a UsageError, nothing may crash or throw anything else. Commands
+// are not run.
 #include <string>
 #include <vector>
 
-#include "app/cli/commands.hpp"
+#include "app/lab/lab_commands.hpp"
 #include "tests/fuzz/fuzz_target.hpp"
 
 namespace {

@@ -7,18 +7,19 @@
 #include <QJsonObject>
 #include <QtTest>
 
-#include "cli_runner.hpp"
+#include "../cli/cli_runner.hpp"
 
 namespace {
 
 using pb::test::cli;
+using pb::test::lab;
 using pb::test::Run;
 
 const QString kExample = QStringLiteral(PB_TEST_DATA_DIR "/issue12_brick_half_offsets.json");
 
 }  // namespace
 
-class StandingCliTest : public QObject {
+class StandingLabTest : public QObject {
   Q_OBJECT
 
  private slots:
@@ -66,7 +67,7 @@ class StandingCliTest : public QObject {
   // The rule against the simulation on a few unwrapped random pallets (held 0.5 s on a still
   // belt): the 2x2 table, and no pallet that passes the rule but cannot stand (exit 0).
   void studyStandingFindsNothingTheRuleLetsThrough() {
-    Run r = cli({QStringLiteral("study"), QStringLiteral("standing"), QStringLiteral("--corpus"),
+    Run r = lab({QStringLiteral("study"), QStringLiteral("standing"), QStringLiteral("--corpus"),
                  QStringLiteral("6"), QStringLiteral("--max-layers"), QStringLiteral("3"),
                  QStringLiteral("--hold"), QStringLiteral("0.5"), QStringLiteral("--threads"),
                  QStringLiteral("2")});
@@ -75,12 +76,12 @@ class StandingCliTest : public QObject {
              r.out.constData());
     QVERIFY2(r.out.contains("rule: stands") && r.out.contains("rule: cannot stand"),
              r.out.constData());
-    Run bad = cli({QStringLiteral("study"), QStringLiteral("standing"), QStringLiteral("--hold"),
+    Run bad = lab({QStringLiteral("study"), QStringLiteral("standing"), QStringLiteral("--hold"),
                    QStringLiteral("-1")});
     QCOMPARE(bad.exit_code, 2);
     QVERIFY2(bad.err.contains("--hold must be 0 to 30 seconds"), bad.err.constData());
   }
 };
 
-QTEST_GUILESS_MAIN(StandingCliTest)
-#include "standing_cli_test.moc"
+QTEST_GUILESS_MAIN(StandingLabTest)
+#include "standing_lab_test.moc"

@@ -13,11 +13,11 @@
 #include <QJsonObject>
 #include <QtTest>
 
-#include "cli_runner.hpp"
+#include "../cli/cli_runner.hpp"
 
 using pb::test::cli;
 
-class AgreementCorpusCliTest : public QObject {
+class AgreementCorpusLabTest : public QObject {
   Q_OBJECT
 
  private slots:
@@ -43,7 +43,7 @@ class AgreementCorpusCliTest : public QObject {
     }
     QProcess p;
     p.setWorkingDirectory(QStringLiteral(PB_SOURCE_DIR));
-    p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-cli"));
+    p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-lab"));
     p.setArguments({"study", "speed-accuracy", "--pallets", pallets.join(','), "--corpus", "0",
                     "--configs", "default", "--out", out.path(), "--json"});
     p.start();
@@ -66,5 +66,5 @@ class AgreementCorpusCliTest : public QObject {
   }
 };
 
-QTEST_APPLESS_MAIN(AgreementCorpusCliTest)
-#include "agreement_corpus_cli_test.moc"
+QTEST_APPLESS_MAIN(AgreementCorpusLabTest)
+#include "agreement_corpus_lab_test.moc"

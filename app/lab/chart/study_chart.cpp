@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "app/cli/chart/study_chart.hpp"
+#include "app/lab/chart/study_chart.hpp"
 
 #include <QApplication>
 #include <QBrush>
@@ -42,7 +42,7 @@ std::string render_study_chart(const std::vector<StudyChartPoint>& points, const
   if (points.empty()) return "no configuration to chart";
   if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
   int argc = 1;
-  char name[] = "palletballet-cli";
+  char name[] = "palletballet-lab";
   char* argv[] = {name, nullptr};
   QApplication* app = qobject_cast<QApplication*>(QCoreApplication::instance());
   std::unique_ptr<QApplication> owned;

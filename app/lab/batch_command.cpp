@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// `palletballet-cli batch --n N --seed S [--threads T] [--out FILE]`: the batch study of random
+// `palletballet-lab batch --n N --seed S [--threads T] [--out FILE]`: the batch study of random
 // pallets (core/lab/batch_study.hpp). The full study (per pallet) goes to FILE or, without --out,
 // to stdout; with --out, stdout gets the summary only.
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <map>
 #include <sstream>
 
-#include "app/cli/commands.hpp"
+#include "app/lab/lab_commands.hpp"
 #include "core/lab/batch_study.hpp"
 
 namespace pb::cli {
@@ -101,13 +101,13 @@ int run_merge(const Args& args) {
   for (const auto& path : args.positionals()) {
     auto json = read_study(path);
     if (!json) {
-      std::cerr << "palletballet-cli batch --merge: " << json.diagnostics[0].message << "\n";
+      std::cerr << "palletballet-lab batch --merge: " << json.diagnostics[0].message << "\n";
       return kExitBadInput;
     }
     if (first.is_null()) first = *json;
     for (const char* key : {"anomaly_rate", "wrap", "confidence_samples"}) {
       if ((*json)[key] != first[key]) {
-        std::cerr << "palletballet-cli batch --merge: " << path << " has " << key << " "
+        std::cerr << "palletballet-lab batch --merge: " << path << " has " << key << " "
                   << (*json)[key].dump() << " but " << args.positionals()[0] << " has "
                   << first[key].dump() << "; merge only shards of one study\n";
         return kExitBadInput;
@@ -121,7 +121,7 @@ int run_merge(const Args& args) {
       StudyEntry e;
       e.seed = p.value("seed", std::uint64_t(0));
       if (auto [it, fresh] = seen.emplace(e.seed, path); !fresh) {
-        std::cerr << "palletballet-cli batch --merge: seed " << e.seed << " is in both "
+        std::cerr << "palletballet-lab batch --merge: seed " << e.seed << " is in both "
                   << it->second << " and " << path << "; give each shard once\n";
         return kExitBadInput;
       }
@@ -134,7 +134,7 @@ int run_merge(const Args& args) {
       if (p.contains("result")) {
         auto r = safety_result_from_json(p["result"], "/pallets/" + std::to_string(i) + "/result");
         if (!r) {
-          std::cerr << "palletballet-cli batch --merge: " << path << ": "
+          std::cerr << "palletballet-lab batch --merge: " << path << ": "
                     << to_string(r.diagnostics[0]) << "\n";
           return kExitBadInput;
         }
@@ -163,7 +163,7 @@ int run_merge(const Args& args) {
       study.pallets.empty() ||
       study.pallets.back().seed - study.pallets.front().seed + 1 == study.pallets.size();
   if (!contiguous) {
-    std::cerr << "palletballet-cli batch --merge: the shards' seeds have gaps (a shard is "
+    std::cerr << "palletballet-lab batch --merge: the shards' seeds have gaps (a shard is "
                  "missing?); the summary covers the seeds given\n";
   }
   Json pallets = Json::array();
@@ -221,7 +221,7 @@ int run_batch(const Args& args) {
     for (const auto& d : errors_of(study.diagnostics)) {
       const std::string option =
           d.pointer == "/anomaly_rate" ? "anomaly-rate" : d.pointer.substr(1);
-      std::cerr << "palletballet-cli batch: --" << option << ": " << d.message << "\n";
+      std::cerr << "palletballet-lab batch: --" << option << ": " << d.message << "\n";
     }
     return kExitBadInput;
   }
@@ -234,7 +234,7 @@ int run_batch(const Args& args) {
   if (path) {
     out << full.dump(2) << "\n";
     if (!out.flush()) {
-      std::cerr << "palletballet-cli batch: could not write all of '" << *path << "'\n";
+      std::cerr << "palletballet-lab batch: could not write all of '" << *path << "'\n";
       return kExitFailure;
     }
     summary["out"] = *path;
@@ -243,7 +243,7 @@ int run_batch(const Args& args) {
     print_json(full);
   }
   if (study->errors > 0) {
-    std::cerr << "palletballet-cli batch: " << study->errors
+    std::cerr << "palletballet-lab batch: " << study->errors
               << " pallet(s) could not be analysed (see their \"error\")\n";
     return kExitFailure;
   }
@@ -253,25 +253,28 @@ int run_batch(const Args& args) {
 }  // namespace
 
 Command batch_command() {
-  return {{"batch",
-           "batch [--n N] [--seed S] [--threads T] [--anomaly-rate R] [--wrap W] [--confidence M] "
-           "[--shard I/N] [--out FILE] | batch --merge FILE...",
-           "the batch study: N random pallets analysed in parallel, limits and modes summarised; "
-           "--shard runs one of N blocks of its seeds (one job of an array), --merge joins the "
-           "shards' --out files into one study",
-           {{"n", "N", "pallets, seeds S .. S+N-1 (default 400)"},
-            {"seed", "S", "first seed (default 0)"},
-            {"threads", "T", "analysing threads, each its own analyzer; 0 = every CPU (default 0)"},
-            {"anomaly-rate", "R", "scanner anomaly rate of the random pallets (default 0.08)"},
-            {"wrap", "W", "none, shrink, stretch, banded or mixed (per pallet; default stretch)"},
-            {"confidence", "M", "samples for each result's confidence (default 0: not estimated)"},
-            {"out", "FILE", "write the full study there; stdout gets the summary"},
-            {"shard", "I/N",
-             "analyse only the I-th (from 0) of N contiguous blocks of the seeds S .. S+N-1"},
-            {"merge", "", "join study files written by --out (shards of one study) into one"}},
-           0,
-           100000},
-          run_batch};
+  Command c = {
+      {"batch",
+       "batch [--n N] [--seed S] [--threads T] [--anomaly-rate R] [--wrap W] [--confidence M] "
+       "[--shard I/N] [--out FILE] | batch --merge FILE...",
+       "the batch study: N random pallets analysed in parallel, limits and modes summarised; "
+       "--shard runs one of N blocks of its seeds (one job of an array), --merge joins the "
+       "shards' --out files into one study",
+       {{"n", "N", "pallets, seeds S .. S+N-1 (default 400)"},
+        {"seed", "S", "first seed (default 0)"},
+        {"threads", "T", "analysing threads, each its own analyzer; 0 = every CPU (default 0)"},
+        {"anomaly-rate", "R", "scanner anomaly rate of the random pallets (default 0.08)"},
+        {"wrap", "W", "none, shrink, stretch, banded or mixed (per pallet; default stretch)"},
+        {"confidence", "M", "samples for each result's confidence (default 0: not estimated)"},
+        {"out", "FILE", "write the full study there; stdout gets the summary"},
+        {"shard", "I/N",
+         "analyse only the I-th (from 0) of N contiguous blocks of the seeds S .. S+N-1"},
+        {"merge", "", "join study files written by --out (shards of one study) into one"}},
+       0,
+       100000},
+      run_batch};
+  c.spec.program = kLabProgram;
+  return c;
 }
 
 }  // namespace pb::cli

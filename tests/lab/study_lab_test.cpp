@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// End-to-end runs of `palletballet-cli study`: speed-accuracy on one two-carton pallet (the table,
+// End-to-end runs of `palletballet-lab study`: speed-accuracy on one two-carton pallet (the table,
 // the JSON, the CSV, the PNG and the reference cache), stability on cheap cases, and the reference
 // configuration's convergence on one small curated scenario. Labelled long: the reference runs at
 // 0.5 and 0.25 ms with plain bisection at half steps.
@@ -11,11 +11,11 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
-#include "cli_runner.hpp"
+#include "../cli/cli_runner.hpp"
 
 namespace {
 
-using pb::test::cli;
+using pb::test::lab;
 using pb::test::read_file;
 using pb::test::Run;
 using pb::test::write_file;
@@ -34,9 +34,9 @@ QByteArray two_cartons() {
 // The smallest curated scenario the convergence test runs (6 cartons, unwrapped).
 constexpr const char* kConvergenceScenario = "asymmetric-load";
 
-// cli() with a longer patience: the reference at 0.25 ms takes minutes on a loaded machine.
-Run slow_cli(const QStringList& args) {
-  return cli(args, {}, 1200000);
+// lab() with a longer patience: the reference at 0.25 ms takes minutes on a loaded machine.
+Run slow_lab(const QStringList& args) {
+  return lab(args, {}, 1200000);
 }
 
 QJsonObject by_config(const QJsonArray& rows, const QString& name) {
@@ -48,24 +48,24 @@ QJsonObject by_config(const QJsonArray& rows, const QString& name) {
 
 }  // namespace
 
-class StudyCliTest : public QObject {
+class StudyLabTest : public QObject {
   Q_OBJECT
 
  private slots:
   void badArgumentsAreUsageErrors() {
-    Run r = cli({QStringLiteral("study"), QStringLiteral("fast-and-loose")});
+    Run r = lab({QStringLiteral("study"), QStringLiteral("fast-and-loose")});
     QCOMPARE(r.exit_code, 2);
     QVERIFY2(r.err.contains("speed-accuracy"), r.err.constData());
-    r = cli({QStringLiteral("study"), QStringLiteral("speed-accuracy"), QStringLiteral("--configs"),
+    r = lab({QStringLiteral("study"), QStringLiteral("speed-accuracy"), QStringLiteral("--configs"),
              QStringLiteral("default,warp-speed"), QStringLiteral("--corpus"),
              QStringLiteral("0")});
     QCOMPARE(r.exit_code, 2);
     QVERIFY2(r.err.contains("warp-speed") && r.err.contains("reduced-2ms"), r.err.constData());
-    r = cli({QStringLiteral("study"), QStringLiteral("stability"), QStringLiteral("--cases"),
+    r = lab({QStringLiteral("study"), QStringLiteral("stability"), QStringLiteral("--cases"),
              QStringLiteral("dt-1000ms")});
     QCOMPARE(r.exit_code, 2);
     QVERIFY2(r.err.contains("dt-1000ms") && r.err.contains("euler-kv-4"), r.err.constData());
-    r = cli({QStringLiteral("study"), QStringLiteral("speed-accuracy"), QStringLiteral("--pallets"),
+    r = lab({QStringLiteral("study"), QStringLiteral("speed-accuracy"), QStringLiteral("--pallets"),
              QStringLiteral("none"), QStringLiteral("--corpus"), QStringLiteral("0")});
     QCOMPARE(r.exit_code, 2);
     QVERIFY2(r.err.contains("corpus is empty"), r.err.constData());
@@ -82,7 +82,7 @@ class StudyCliTest : public QObject {
                               QStringLiteral("--configs"), QStringLiteral("default,closed-form"),
                               QStringLiteral("--out"),     out,
                               QStringLiteral("--json")};
-    Run r = cli(args);
+    Run r = lab(args);
     QVERIFY2(r.exit_code == 0, r.err.constData());
     QVERIFY2(r.err.contains("from the cache: 0"), r.err.constData());
     const QJsonArray rows = r.json().array();
@@ -122,7 +122,7 @@ class StudyCliTest : public QObject {
     }
 
     // A rerun takes the reference from the cache, and the table says the same.
-    Run again = cli(args);
+    Run again = lab(args);
     QVERIFY2(again.exit_code == 0, again.err.constData());
     QVERIFY2(again.err.contains("from the cache: 1"), again.err.constData());
     const QJsonObject ref2 = by_config(again.json().array(), QStringLiteral("reference"));
@@ -132,14 +132,14 @@ class StudyCliTest : public QObject {
     QCOMPARE(def2.value(QStringLiteral("within_one_step")).toDouble(),
              def.value(QStringLiteral("within_one_step")).toDouble());
 
-    Run table = cli(QStringList(args.begin(), args.end() - 1));
+    Run table = lab(QStringList(args.begin(), args.end() - 1));
     QVERIFY2(table.exit_code == 0, table.err.constData());
     QVERIFY(table.out.contains("reference (R)"));
     QVERIFY(table.out.contains("default (D)"));
   }
 
   void stabilityClassifiesEachCase() {
-    Run r = cli({QStringLiteral("study"), QStringLiteral("stability"), QStringLiteral("--cases"),
+    Run r = lab({QStringLiteral("study"), QStringLiteral("stability"), QStringLiteral("--cases"),
                  QStringLiteral("euler-kv-4,dt-2ms-carton,nconmax-2"), QStringLiteral("--json")});
     QVERIFY2(r.exit_code == 0, r.err.constData());
     const QJsonArray rows = r.json().array();
@@ -157,7 +157,7 @@ class StudyCliTest : public QObject {
   // The reference configuration converges: halving its timestep (0.5 -> 0.25 ms) moves no limit
   // of a small curated scenario by more than one of its search steps.
   void referenceConvergesOnASmallCuratedScenario() {
-    Run r = slow_cli({QStringLiteral("study"), QStringLiteral("convergence"),
+    Run r = slow_lab({QStringLiteral("study"), QStringLiteral("convergence"),
                       QStringLiteral("--pallets"), QString::fromLatin1(kConvergenceScenario),
                       QStringLiteral("--json")});
     QVERIFY2(r.exit_code == 0, (r.err + r.out).constData());
@@ -169,5 +169,5 @@ class StudyCliTest : public QObject {
   }
 };
 
-QTEST_GUILESS_MAIN(StudyCliTest)
-#include "study_cli_test.moc"
+QTEST_GUILESS_MAIN(StudyLabTest)
+#include "study_lab_test.moc"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The speed-accuracy chart of `palletballet-cli study speed-accuracy`, rendered to PNG with Qt
+// The speed-accuracy chart of `palletballet-lab study speed-accuracy`, rendered to PNG with Qt
 // Charts on Qt's offscreen platform. Plain C++ interface: the rest of the CLI stays Qt-free; this
 // module is built (and linked) only when the UI is (PB_BUILD_UI).
 #pragma once

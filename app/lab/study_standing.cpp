@@ -10,7 +10,7 @@
 #include <iostream>
 #include <thread>
 
-#include "app/cli/commands.hpp"
+#include "app/lab/lab_commands.hpp"
 #include "core/analysis/analyzer.hpp"
 #include "core/base/text.hpp"
 #include "core/inputs/random_pallet.hpp"

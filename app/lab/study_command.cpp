@@ -10,14 +10,14 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/cli/commands.hpp"
+#include "app/lab/lab_commands.hpp"
 #include "core/base/text.hpp"
 #include "core/contract/fingerprint.hpp"
 #include "core/lab/stability_study.hpp"
 #include "core/lab/study.hpp"
 
 #ifdef PB_HAVE_STUDY_CHART
-#include "app/cli/chart/study_chart.hpp"
+#include "app/lab/chart/study_chart.hpp"
 #endif
 
 namespace pb::cli {
@@ -293,7 +293,7 @@ int run_speed_accuracy(const Args& args) {
     std::cerr << "study: no chart: " << chart_error << "\n";
   }
 #else
-  std::cerr << "study: no chart: this palletballet-cli was built without Qt Charts "
+  std::cerr << "study: no chart: this palletballet-lab was built without Qt Charts "
                "(PB_BUILD_UI=OFF)\n";
 #endif
   if (args.flag("json")) {
@@ -442,7 +442,7 @@ int run_study(const Args& args) {
 }  // namespace
 
 std::vector<Command> study_commands() {
-  return {
+  std::vector<Command> out = {
       {{"study",
         "study speed-accuracy|stability|convergence|standing [--corpus N] [--seed S] "
         "[--pallets LIST] [--configs LIST] [--out DIR] [--cases LIST] [--json] [--wrap W] "
@@ -485,6 +485,8 @@ std::vector<Command> study_commands() {
         1},
        run_study},
   };
+  for (Command& c : out) c.spec.program = kLabProgram;
+  return out;
 }
 
 }  // namespace pb::cli
