@@ -22,9 +22,9 @@
 #include <filesystem>
 #include <string>
 
-#include "ui/autosave.hpp"
-#include "ui/console_screenshot.hpp"
-#include "ui/main_window.hpp"
+#include "ui/models/autosave.hpp"
+#include "ui/window/console_screenshot.hpp"
+#include "ui/window/main_window.hpp"
 
 namespace {
 

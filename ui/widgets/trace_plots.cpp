@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: MIT
+#include "ui/widgets/trace_plots.hpp"
+
+#include <QChart>
+#include <QChartView>
+#include <QGridLayout>
+#include <QLabel>
+#include <QLineSeries>
+#include <QMouseEvent>
+#include <QValueAxis>
+#include <algorithm>
+#include <cmath>
+
+namespace pb::ui {
+
+namespace {
+
+struct QuantityInfo {
+  const char* title;
+  const char* unit;
+  const char* readout;  ///< its name in the readout
+};
+constexpr QuantityInfo kInfo[TracePlots::kQuantities] = {
+    {"Pallet tilt", "deg", "tilt"},
+    {"Item displacement on the pallet", "cm", "item moved"},
+    {"Load shift (item-to-item)", "cm", "load shift"},
+    {"Pallet slip on the belt", "cm", "slip"},
+};
+
+}  // namespace
+
+std::array<TracePlots::Curve, TracePlots::kQuantities> TracePlots::measure(
+    const Replay& replay, const DetectorThresholds& th) {
+  std::array<Curve, kQuantities> out;
+  out[Tilt].threshold = th.tip_deg;
+  out[ItemSlide].threshold = th.item_slide_m * 100.0;
+  out[LoadShift].threshold = th.load_shift_m * 100.0;
+  out[Slip].threshold = th.pallet_slip_m * 100.0;
+  if (replay.frames.empty()) return out;
+  const ReplayFrame& rest = replay.frames.front();
+  for (const ReplayFrame& f : replay.frames) {
+    const double v[kQuantities] = {
+        measure_tilt(f.pallet).value,
+        100.0 * measure_item_slide(rest.pallet, rest.items, f.pallet, f.items).value,
+        100.0 * measure_load_shift(rest.items, f.items).value,
+        100.0 * measure_pallet_slip(rest.pallet, f.pallet, f.belt_x, f.belt_y).value,
+    };
+    for (int q = 0; q < kQuantities; ++q) {
+      out[q].t.push_back(f.t);
+      out[q].value.push_back(v[q]);
+    }
+  }
+  return out;
+}
+
+TracePlots::TracePlots(QWidget* parent) : QWidget(parent) {
+  auto* layout = new QGridLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->setSpacing(2);
+  for (int q = 0; q < kQuantities; ++q) {
+    auto* chart = new QChart;
+    chart->setTitle(tr(kInfo[q].title));
+    chart->legend()->hide();
+    chart->setMargins(QMargins(2, 2, 2, 2));
+    auto* x = new QValueAxis;
+    x->setTitleText(tr("time (s)"));
+    x->setLabelFormat(QStringLiteral("%.1f"));
+    auto* y = new QValueAxis;
+    y->setTitleText(tr(kInfo[q].unit));
+    y->setLabelFormat(QStringLiteral("%.1f"));
+    chart->addAxis(x, Qt::AlignBottom);
+    chart->addAxis(y, Qt::AlignLeft);
+    _series[q] = new QLineSeries;
+    _series[q]->setPen(QPen(QColor(31, 119, 180), 2.0));
+    _thresholds[q] = new QLineSeries;
+    _thresholds[q]->setPen(QPen(QColor(210, 40, 40), 1.5, Qt::DashLine));
+    _cursors[q] = new QLineSeries;
+    _cursors[q]->setPen(QPen(QColor(40, 40, 40), 1.5));
+    for (QLineSeries* s : {_series[q], _thresholds[q], _cursors[q]}) {
+      chart->addSeries(s);
+      s->attachAxis(x);
+      s->attachAxis(y);
+    }
+    _charts[q] = chart;
+    auto* view = new QChartView(chart, this);
+    view->setRenderHint(QPainter::Antialiasing);
+    view->setMinimumSize(220, 150);
+    view->setToolTip(tr("Click or drag to move the replay to that time"));
+    view->viewport()->installEventFilter(this);
+    _views[q] = view;
+    layout->addWidget(view, q / 2, q % 2);
+  }
+  _readout = new QLabel(this);
+  _readout->setWordWrap(true);
+  _readout->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  _readout->setToolTip(tr("Every quantity at the replay's cursor, with its detector's threshold"));
+  layout->addWidget(_readout, 2, 0, 1, 2);
+  clear();
+}
+
+bool TracePlots::eventFilter(QObject* watched, QEvent* event) {
+  const bool press = event->type() == QEvent::MouseButtonPress;
+  const bool drag = event->type() == QEvent::MouseMove;
+  if (press || drag) {
+    const auto* mouse = static_cast<QMouseEvent*>(event);
+    if (mouse->buttons() & Qt::LeftButton) {
+      for (int q = 0; q < kQuantities; ++q) {
+        if (_views[q] == nullptr || watched != _views[q]->viewport() || _series[q]->count() == 0) {
+          continue;
+        }
+        const QPointF scene = _views[q]->mapToScene(mouse->position().toPoint());
+        const QPointF value = _charts[q]->mapToValue(_charts[q]->mapFromScene(scene), _series[q]);
+        emit timeRequested(std::clamp(value.x(), _tStart, _tEnd));
+        return true;
+      }
+    }
+  }
+  return QWidget::eventFilter(watched, event);
+}
+
+double TracePlots::valueAt(const Curve& c, double t_s) {
+  if (c.t.empty()) return 0.0;
+  const auto after = std::upper_bound(c.t.begin(), c.t.end(), t_s);
+  if (after == c.t.begin()) return c.value.front();
+  if (after == c.t.end()) return c.value.back();
+  const std::size_t k = static_cast<std::size_t>(after - c.t.begin());
+  const double t0 = c.t[k - 1], t1 = c.t[k];
+  const double w = t1 > t0 ? (t_s - t0) / (t1 - t0) : 1.0;
+  return c.value[k - 1] + w * (c.value[k] - c.value[k - 1]);
+}
+
+QString TracePlots::readout() const {
+  return _readout->text();
+}
+
+void TracePlots::clear() {
+  for (int q = 0; q < kQuantities; ++q) {
+    _series[q]->clear();
+    _thresholds[q]->clear();
+    _cursors[q]->clear();
+    _curves[q] = Curve{};
+    _yMax[q] = 1.0;
+  }
+  _tStart = 0.0;
+  _tEnd = 1.0;
+  _cursorT = 0.0;
+  _readout->setText(tr("No replay: dispatch the pallet or open a replay to see its traces."));
+}
+
+void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thresholds) {
+  clear();
+  const auto curves = measure(replay, thresholds);
+  _curves = curves;
+  if (!replay.frames.empty()) {
+    _tStart = replay.frames.front().t;
+    _tEnd = std::max(_tStart + 1e-3, replay.frames.back().t);
+  }
+  for (int q = 0; q < kQuantities; ++q) {
+    const Curve& c = curves[q];
+    QList<QPointF> points;
+    points.reserve(static_cast<qsizetype>(c.t.size()));
+    double peak = 0.0;
+    for (std::size_t i = 0; i < c.t.size(); ++i) {
+      points.append(QPointF(c.t[i], c.value[i]));
+      peak = std::max(peak, c.value[i]);
+    }
+    _series[q]->replace(points);
+    _thresholds[q]->append(_tStart, c.threshold);
+    _thresholds[q]->append(_tEnd, c.threshold);
+    _yMax[q] = std::max(1.25 * c.threshold, 1.05 * peak);
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) {
+      auto* x = static_cast<QValueAxis*>(axis);
+      x->setRange(_tStart, _tEnd);
+      x->setLabelFormat(_tEnd - _tStart < 2.0 ? QStringLiteral("%.2f") : QStringLiteral("%.1f"));
+    }
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
+      auto* y = static_cast<QValueAxis*>(axis);
+      y->setRange(0.0, _yMax[q]);
+      y->applyNiceNumbers();  // round ticks; the range may grow a little
+      _yMax[q] = y->max();
+    }
+  }
+  fitTicks();
+  setCursorTime(_tStart);
+}
+
+void TracePlots::resizeEvent(QResizeEvent* event) {
+  QWidget::resizeEvent(event);
+  fitTicks();
+}
+
+void TracePlots::fitTicks() {
+  // As many y labels as the plot's height holds without one overlapping the next (Qt Charts
+  // elides overlapping labels to "..."), at a round interval (1, 2 or 5 x 10^k) from zero.
+  const double label = 1.8 * fontMetrics().height();
+  for (int q = 0; q < kQuantities; ++q) {
+    const double height = _charts[q]->plotArea().height() > 0.0 ? _charts[q]->plotArea().height()
+                                                                : this->height() / 2.0 - 60.0;
+    const int fit = std::max(2, static_cast<int>(height / label) + 1);
+    const double raw = _yMax[q] / (fit - 1);
+    const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = 10.0 * decade;
+    for (const double m : {1.0, 2.0, 5.0}) {
+      if (m * decade >= raw) {
+        step = m * decade;
+        break;
+      }
+    }
+    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
+      auto* y = static_cast<QValueAxis*>(axis);
+      y->setTickType(QValueAxis::TicksDynamic);
+      y->setTickAnchor(0.0);
+      y->setTickInterval(step);
+      y->setLabelFormat(step >= 1.0 ? QStringLiteral("%.0f") : QStringLiteral("%.1f"));
+    }
+  }
+}
+
+void TracePlots::setCursorTime(double t_s) {
+  _cursorT = std::clamp(t_s, _tStart, _tEnd);
+  for (int q = 0; q < kQuantities; ++q) {
+    _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
+  }
+  if (_curves[Tilt].t.empty()) return;
+  QStringList parts;
+  for (int q = 0; q < kQuantities; ++q) {
+    parts << tr("%1 %2 %3 (limit %4)")
+                 .arg(tr(kInfo[q].readout))
+                 .arg(valueAt(_curves[q], _cursorT), 0, 'f', q == Tilt ? 2 : 1)
+                 .arg(tr(kInfo[q].unit))
+                 .arg(_curves[q].threshold, 0, 'g', 3);
+  }
+  _readout->setText(
+      tr("At %1 s: %2").arg(_cursorT, 0, 'f', 3).arg(parts.join(QStringLiteral("; "))));
+}
+
+QByteArray TracePlots::csv(const pb::Replay& replay, const pb::DetectorThresholds& thresholds) {
+  const auto curves = measure(replay, thresholds);
+  QByteArray out =
+      "t_s,pallet_tilt_deg,item_displacement_cm,load_shift_cm,pallet_slip_cm,"
+      "pallet_tilt_deg_limit,item_displacement_cm_limit,load_shift_cm_limit,pallet_slip_cm_limit\n";
+  const auto number = [](double v) { return QByteArray::number(v, 'g', 10); };
+  for (std::size_t k = 0; k < curves[0].t.size(); ++k) {
+    out += number(curves[0].t[k]);
+    for (const Curve& c : curves) out += ',' + number(k < c.value.size() ? c.value[k] : 0.0);
+    for (const Curve& c : curves) out += ',' + number(c.threshold);
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace pb::ui
