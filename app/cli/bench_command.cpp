@@ -79,9 +79,9 @@ Result<Setup> make_setup(const Scenario& scenario) {
   auto probe = Batch::create(*setup.scene.model, 1, 1);
   if (!probe) return Result<Setup>::failure(std::move(probe.diagnostics));
   SimState s = probe->reset_state();
-  s.qpos = rest.qpos;
-  s.qvel = rest.qvel;
-  s.qacc_warmstart = rest.qacc_warmstart;
+  s.qpos = rest.state.qpos;
+  s.qvel = rest.state.qvel;
+  s.qacc_warmstart = rest.state.qacc_warmstart;
   const SceneLayout& l = setup.scene.layout;
   s.qvel[std::size_t(l.belt_x_dof)] += kRideSpeed;
   s.qvel[std::size_t(l.pallet_dof)] += kRideSpeed;
@@ -89,23 +89,6 @@ Result<Setup> make_setup(const Scenario& scenario) {
   s.ctrl[std::size_t(l.belt_x_act)] = kRideSpeed;
   setup.start = std::move(s);
   return Result<Setup>{std::move(setup), {}};
-}
-
-// Every field of a batch state into `d`, as the batch's workers load a simulation.
-void load(const SimState& s, mjData* d) {
-  d->time = s.time;
-  auto put = [](const std::vector<double>& v, mjtNum* to) { std::copy(v.begin(), v.end(), to); };
-  put(s.qpos, d->qpos);
-  put(s.qvel, d->qvel);
-  put(s.act, d->act);
-  put(s.qacc_warmstart, d->qacc_warmstart);
-  put(s.ctrl, d->ctrl);
-  put(s.qfrc_applied, d->qfrc_applied);
-  put(s.xfrc_applied, d->xfrc_applied);
-  put(s.mocap_pos, d->mocap_pos);
-  put(s.mocap_quat, d->mocap_quat);
-  put(s.userdata, d->userdata);
-  std::copy(s.warning.begin(), s.warning.end(), d->warning);
 }
 
 struct Timing {
@@ -132,7 +115,7 @@ std::optional<std::string> run_serial(const Setup& setup, const Belt& belt, int 
   config.final_qpos_x.assign(std::size_t(sims), 0.0);
   // One untimed simulation warms the caches, as the batch's untimed first call does.
   if (auto error = guarded([&] {
-        load(setup.start, d);
+        restore_state(setup.start, *d);
         for (int k = 0; k < steps; ++k) {
           belt.drive(0, m, *d);
           mj_step(&m, d);
@@ -145,7 +128,7 @@ std::optional<std::string> run_serial(const Setup& setup, const Belt& belt, int 
   std::optional<std::string> failure;
   if (auto error = guarded([&] {
         for (int i = 0; i < sims && !failure; ++i) {
-          load(setup.start, d);
+          restore_state(setup.start, *d);
           for (int k = 0; k < steps; ++k) {
             belt.drive(i, m, *d);
             mj_step(&m, d);

@@ -18,20 +18,8 @@ namespace pb {
 
 namespace {
 
-// The state arrays in row order (time, a scalar, comes first), in mjData and in SimState.
-constexpr int kFields = 11;
-constexpr std::array<mjtNum * mjData::*, kFields - 1> kDataArrays{
-    &mjData::qpos,       &mjData::qvel,         &mjData::act,          &mjData::qacc_warmstart,
-    &mjData::ctrl,       &mjData::qfrc_applied, &mjData::xfrc_applied, &mjData::mocap_pos,
-    &mjData::mocap_quat, &mjData::userdata};
-constexpr std::array<std::vector<double> SimState::*, kFields - 1> kStateArrays{
-    &SimState::qpos,           &SimState::qvel,      &SimState::act,
-    &SimState::qacc_warmstart, &SimState::ctrl,      &SimState::qfrc_applied,
-    &SimState::xfrc_applied,   &SimState::mocap_pos, &SimState::mocap_quat,
-    &SimState::userdata};
-constexpr std::array<const char*, kFields> kFieldNames{
-    "time",         "qpos",         "qvel",      "act",        "qacc_warmstart", "ctrl",
-    "qfrc_applied", "xfrc_applied", "mocap_pos", "mocap_quat", "userdata"};
+// The row's fields: time, a scalar, first, then the state's arrays (sim_state.hpp) in their order.
+constexpr int kFields = 1 + int(kStateArrays.size());
 
 using Warnings = std::array<mjWarningStat, mjNWARNING>;
 
@@ -45,9 +33,9 @@ struct Layout {
   std::array<int, kFields> width{};
   int stride = 0;
 
-  explicit Layout(const mjModel& m)
-      : width{1,    m.nq,        m.nv,         m.na,         m.nv,       m.nu,
-              m.nv, 6 * m.nbody, 3 * m.nmocap, 4 * m.nmocap, m.nuserdata} {
+  explicit Layout(const mjModel& m) {
+    width[0] = 1;
+    for (std::size_t f = 1; f < kFields; ++f) width[f] = kStateArrays[f - 1].width(m);
     for (int f = 0; f < kFields; ++f) {
       offset[std::size_t(f)] = stride;
       stride += width[std::size_t(f)];
@@ -193,19 +181,6 @@ class WorkerPool {
 
 }  // namespace
 
-bool SimState::operator==(const SimState& other) const {
-  for (auto field : kStateArrays) {
-    if (this->*field != other.*field) return false;
-  }
-  for (std::size_t w = 0; w < warning.size(); ++w) {
-    if (warning[w].lastinfo != other.warning[w].lastinfo ||
-        warning[w].number != other.warning[w].number) {
-      return false;
-    }
-  }
-  return time == other.time;
-}
-
 struct Batch::Impl {
   // A model field made per simulation: one row per simulation, written into every worker's
   // model copy (`targets`) before that worker steps the simulation.
@@ -233,7 +208,7 @@ struct Batch::Impl {
     const mjtNum* r = row(sim);
     d->time = r[0];
     for (std::size_t f = 1; f < kFields; ++f) {
-      std::copy_n(r + layout.offset[f], layout.width[f], d->*kDataArrays[f - 1]);
+      std::copy_n(r + layout.offset[f], layout.width[f], d->*kStateArrays[f - 1].data);
     }
     std::copy(warnings[std::size_t(sim)].begin(), warnings[std::size_t(sim)].end(), d->warning);
   }
@@ -242,7 +217,7 @@ struct Batch::Impl {
     mjtNum* r = row(sim);
     r[0] = d->time;
     for (std::size_t f = 1; f < kFields; ++f) {
-      std::copy_n(d->*kDataArrays[f - 1], layout.width[f], r + layout.offset[f]);
+      std::copy_n(d->*kStateArrays[f - 1].data, layout.width[f], r + layout.offset[f]);
     }
     std::copy_n(d->warning, mjNWARNING, warnings[std::size_t(sim)].begin());
   }
@@ -252,7 +227,7 @@ struct Batch::Impl {
     s.time = r[0];
     for (std::size_t f = 1; f < kFields; ++f) {
       const mjtNum* first = r + layout.offset[f];
-      (s.*kStateArrays[f - 1]).assign(first, first + layout.width[f]);
+      (s.*kStateArrays[f - 1].state).assign(first, first + layout.width[f]);
     }
     s.warning = warning;
     return s;
@@ -260,9 +235,9 @@ struct Batch::Impl {
 
   std::optional<BatchError> check(const SimState& s) const {
     for (std::size_t f = 1; f < kFields; ++f) {
-      const std::size_t given = (s.*kStateArrays[f - 1]).size();
+      const std::size_t given = (s.*kStateArrays[f - 1].state).size();
       if (given != std::size_t(layout.width[f])) {
-        return invalid(std::string("the state's ") + kFieldNames[f] + " has " +
+        return invalid(std::string("the state's ") + kStateArrays[f - 1].name + " has " +
                        std::to_string(given) + " values but the model needs " +
                        std::to_string(layout.width[f]) + ": start from get_state or reset_state");
       }
@@ -273,7 +248,7 @@ struct Batch::Impl {
   void write(const SimState& s, mjtNum* r, Warnings& warning) const {
     r[0] = s.time;
     for (std::size_t f = 1; f < kFields; ++f) {
-      std::copy((s.*kStateArrays[f - 1]).begin(), (s.*kStateArrays[f - 1]).end(),
+      std::copy((s.*kStateArrays[f - 1].state).begin(), (s.*kStateArrays[f - 1].state).end(),
                 r + layout.offset[f]);
     }
     warning = s.warning;

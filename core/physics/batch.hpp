@@ -18,19 +18,9 @@
 #include <vector>
 
 #include "core/base/diagnostic.hpp"
+#include "core/physics/sim_state.hpp"
 
 namespace pb {
-
-/// Everything a simulation carries from one call to the next (MuJoCo 2.2.2 has no mj_getState:
-/// these are the fields that make a restart bitwise equal to a continued run).
-struct SimState {
-  double time = 0.0;
-  std::vector<double> qpos, qvel, act, qacc_warmstart;
-  std::vector<double> ctrl, qfrc_applied, xfrc_applied, mocap_pos, mocap_quat, userdata;
-  std::array<mjWarningStat, mjNWARNING> warning{};  ///< MuJoCo prints a warning only when 0
-
-  bool operator==(const SimState& other) const;
-};
 
 /// The per-simulation arrays of a state, for views across the batch.
 enum class StateField {

@@ -31,22 +31,12 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
   runs.reserve(profiles.size());
   std::vector<int> active;
   int nstep = 0;
-  const SimState base = batch.value->reset_state();
   for (std::size_t k = 0; k < profiles.size(); ++k) {
     runs.push_back(std::make_unique<ProbeRun>(scene, rest, profiles[k], o));
     ProbeRun& run = *runs.back();
     mj_resetData(&m, d);
     load_rest_state(m, scene.layout, rest, run.initial_speed(), *d);
-    SimState st = base;
-    st.time = d->time;
-    st.qpos.assign(d->qpos, d->qpos + m.nq);
-    st.qvel.assign(d->qvel, d->qvel + m.nv);
-    st.act.assign(d->act, d->act + m.na);
-    st.qacc_warmstart.assign(d->qacc_warmstart, d->qacc_warmstart + m.nv);
-    st.ctrl.assign(d->ctrl, d->ctrl + m.nu);
-    st.qfrc_applied.assign(d->qfrc_applied, d->qfrc_applied + m.nv);
-    st.xfrc_applied.assign(d->xfrc_applied, d->xfrc_applied + 6 * m.nbody);
-    if (auto error = batch.value->set_state(int(k), st)) {
+    if (auto error = batch.value->set_state(int(k), capture_state(m, *d))) {
       return Out::failure("", "the batch could not load its start states: " + error->message);
     }
     if (run.done()) {

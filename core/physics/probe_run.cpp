@@ -77,9 +77,7 @@ double max_relative_speed(const SceneLayout& l, const mjData& d, double belt_vx,
 
 void load_rest_state(const mjModel& m, const SceneLayout& l, const RestState& rest,
                      double initial_speed, mjData& d) {
-  std::copy(rest.qpos.begin(), rest.qpos.end(), d.qpos);
-  std::copy(rest.qvel.begin(), rest.qvel.end(), d.qvel);
-  std::copy(rest.qacc_warmstart.begin(), rest.qacc_warmstart.end(), d.qacc_warmstart);
+  restore_state(rest.state, d);
   d.time = 0.0;
   std::fill(d.ctrl, d.ctrl + m.nu, 0.0);
   std::fill(d.act, d.act + m.na, 0.0);
@@ -108,8 +106,8 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   n_steps_ = static_cast<int>(std::ceil(profile_.duration_s / dt_ - 1e-9));
   const auto breakpoints = profile_.breakpoints();
   last_breakpoint_ = breakpoints.empty() ? 0.0 : breakpoints.back();
-  belt_x0_ = rest.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
-  belt_y0_ = rest.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
+  belt_x0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
+  belt_y0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
   if (auto problem = numerical_limits_problem(scene)) {
     r_.outcome = Outcome::unstable;
     r_.reason = *problem;

@@ -13,6 +13,7 @@
 #include "core/base/pose.hpp"
 #include "core/base/progress.hpp"
 #include "core/physics/detectors.hpp"
+#include "core/physics/sim_state.hpp"
 #include "core/physics/trace.hpp"
 
 namespace pb {
@@ -28,12 +29,10 @@ struct StandFailure {
   std::string sentence;  ///< for a supervisor: the item, what it did, what to do
 };
 
-/// The MuJoCo state a probe starts from (2.2.2 has no mj_getState; these are the fields that make
-/// a restart bitwise equal to a continued run), plus the detector baselines.
+/// The MuJoCo state a probe starts from (where the load first came to rest on a still belt), plus
+/// the detector baselines.
 struct RestState {
-  std::vector<double> qpos;
-  std::vector<double> qvel;
-  std::vector<double> qacc_warmstart;
+  SimState state;
   Pose pallet;
   std::vector<Pose> items;
   double settle_time_s = 0.0;       ///< when it first came to rest (the hold after it not counted)

@@ -26,9 +26,7 @@ namespace {
 // The state a probe starts from: the data as it is now.
 RestState capture(const mjModel& m, const mjData& d, const SceneLayout& l, double speed) {
   RestState rest;
-  rest.qpos.assign(d.qpos, d.qpos + m.nq);
-  rest.qvel.assign(d.qvel, d.qvel + m.nv);
-  rest.qacc_warmstart.assign(d.qacc_warmstart, d.qacc_warmstart + m.nv);
+  rest.state = capture_state(m, d);
   rest.pallet = body_pose(d, l.pallet_body);
   read_item_poses(l, d, rest.items);
   rest.settle_time_s = d.time;
@@ -173,7 +171,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       quiet_since = -1;
     } else if (quiet_since < 0) {
       quiet_since = step;
-      if (first.qpos.empty()) first = capture(*m, *d, l, speed);
+      if (first.state.qpos.empty()) first = capture(*m, *d, l, speed);
     }
     settled = quiet_since >= 0 && step - quiet_since >= hold_steps;
   }
@@ -190,7 +188,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // speed above the rest threshold now and then while nothing goes anywhere. A load whose items
   // have all stayed within a quarter of the load-shift threshold of where it first came to rest
   // stands; one that has crept further does not.
-  if (!settled && !moved && !first.qpos.empty()) {
+  if (!settled && !moved && !first.state.qpos.empty()) {
     const Pose pallet = body_pose(*d, l.pallet_body);
     double crept = 0.0;
     for (std::size_t i = 0; i < items.size() && i < first.items.size(); ++i) {

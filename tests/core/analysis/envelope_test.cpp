@@ -254,7 +254,7 @@ class EnvelopeTest : public QObject {
     QCOMPARE(r.sims_run, static_cast<int>(env->probes.size()));
     QCOMPARE(r.sims_run,
              env->accel.probes + env->decel.probes + env->lateral.probes + env->speed.probes);
-    QCOMPARE(env->rest.qpos, s->rest.qpos);
+    QCOMPARE(env->rest.state.qpos, s->rest.state.qpos);
     // Probes are recorded in search order, each with the failure it saw.
     QCOMPARE(env->probes.front().axis, Axis::accel);
     QCOMPARE(env->probes.back().axis, Axis::lateral);

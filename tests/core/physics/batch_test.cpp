@@ -76,24 +76,6 @@ std::vector<Serial> serial_copies(const mjModel& model, int n) {
   return out;
 }
 
-SimState state_of(const mjModel& m, const mjData& d) {
-  auto span = [](const mjtNum* p, int n) { return std::vector<double>(p, p + n); };
-  SimState s;
-  s.time = d.time;
-  s.qpos = span(d.qpos, m.nq);
-  s.qvel = span(d.qvel, m.nv);
-  s.act = span(d.act, m.na);
-  s.qacc_warmstart = span(d.qacc_warmstart, m.nv);
-  s.ctrl = span(d.ctrl, m.nu);
-  s.qfrc_applied = span(d.qfrc_applied, m.nv);
-  s.xfrc_applied = span(d.xfrc_applied, 6 * m.nbody);
-  s.mocap_pos = span(d.mocap_pos, 3 * m.nmocap);
-  s.mocap_quat = span(d.mocap_quat, 4 * m.nmocap);
-  s.userdata = span(d.userdata, m.nuserdata);
-  std::copy_n(d.warning, mjNWARNING, s.warning.begin());
-  return s;
-}
-
 // An empty vector's data() may be null, and memcmp of a null pointer is undefined even for 0 bytes.
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() &&
@@ -149,9 +131,9 @@ int memory_child() {
   auto batch = Batch::create(m, kMemorySims, 2);
   if (!batch) return 4;
   SimState start = batch->reset_state();
-  start.qpos = rest->qpos;
-  start.qvel = rest->qvel;
-  start.qacc_warmstart = rest->qacc_warmstart;
+  start.qpos = rest->state.qpos;
+  start.qvel = rest->state.qvel;
+  start.qacc_warmstart = rest->state.qacc_warmstart;
   if (batch->set_reset_state(start) || batch->reset() || batch->step({}, 2)) return 5;
   const long peak_after = peak_rss_kb(), rss_after = current_rss_kb();
   const long state_bytes = long(sizeof(double)) * (1 + m.nq + 3 * m.nv + m.na + m.nu + 6 * m.nbody +
@@ -188,7 +170,7 @@ class BatchTest : public QObject {
   void check_lockstep(const Batch& batch, const std::vector<Serial>& ref, int call) const {
     for (int i = 0; i < batch.size(); ++i) {
       const auto& r = ref[std::size_t(i)];
-      QVERIFY2(same_bits(batch.get_state(i), state_of(*r.model, *r.data)),
+      QVERIFY2(same_bits(batch.get_state(i), capture_state(*r.model, *r.data)),
                qPrintable(QString("simulation %1 differs after call %2").arg(i).arg(call)));
     }
   }
@@ -580,7 +562,7 @@ class BatchTest : public QObject {
         mj_step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
       }
       QVERIFY(same_bits(batch.get_state(i),
-                        state_of(*ref[std::size_t(i)].model, *ref[std::size_t(i)].data)));
+                        capture_state(*ref[std::size_t(i)].model, *ref[std::size_t(i)].data)));
     }
 
     // Only the engine error left: it is named, with MuJoCo's message.
@@ -604,7 +586,8 @@ class BatchTest : public QObject {
 
     // The workers that failed serve every simulation correctly afterwards.
     for (int i = 0; i < kSims; ++i) {
-      QVERIFY(!batch.set_state(i, state_of(*ref[std::size_t(i)].model, *ref[std::size_t(i)].data)));
+      QVERIFY(!batch.set_state(
+          i, capture_state(*ref[std::size_t(i)].model, *ref[std::size_t(i)].data)));
     }
     for (int call = 0; call < 3; ++call) {
       QVERIFY(!batch.step({}, 2, belt));

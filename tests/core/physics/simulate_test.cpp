@@ -516,7 +516,7 @@ class SimulateTest : public QObject {
     QVERIFY(!rest->cannot_stand);
     auto normal = rig.sim->settle();
     QVERIFY(normal.ok());
-    QCOMPARE(rest->qpos, normal->qpos);  // the first rest, whatever the hold
+    QCOMPARE(rest->state.qpos, normal->state.qpos);  // the first rest, whatever the hold
     QCOMPARE(rest->settle_time_s, normal->settle_time_s);
   }
 
