@@ -15,6 +15,7 @@
 #include "core/contract/conveyor_profile.hpp"
 #include "core/contract/json_io.hpp"
 #include "core/contract/pallet_config.hpp"
+#include "core/inputs/pallet_source.hpp"
 
 namespace pb::cli {
 
@@ -51,18 +52,6 @@ std::optional<WrapType> random_wrap_option(const Args& args, const std::string& 
 
 /// Reads a file's text, or stdin for "-"; nullopt (with a message on stderr) if it can't.
 std::optional<std::string> read_input(const std::string& path);
-
-/// A pallet named by a FILE argument.
-struct PalletInput {
-  PalletConfig pallet;
-  std::string pointer_prefix;  ///< "/pallet" when it came from a scenario file, "" otherwise
-  std::optional<ConveyorProfile> suggested_profile;  ///< a scenario's, when it has one
-};
-
-/// Reads a FILE argument: a PalletConfig file, a scenario file (its "pallet" and, if present, its
-/// "suggested_profile"), "-" for stdin, or the slug of a curated scenario when no file of that
-/// name exists. Errors point into the document that was read; warnings may come with the pallet.
-Result<PalletInput> read_pallet(const std::string& arg);
 
 /// Prints JSON on stdout, indented by two spaces.
 void print_json(const Json& json);

@@ -18,78 +18,10 @@
 
 namespace pb::cli {
 
-namespace {
-
-// A file's text, or stdin's for "-"; nullopt if the file cannot be opened.
-// At most one byte more than parse_json accepts, so that a huge file is refused by size, not read.
-std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream file;
-  std::istream* in = &std::cin;
-  if (path != "-") {
-    file.open(path, std::ios::binary);
-    if (!file) return std::nullopt;
-    in = &file;
-  }
-  std::string text;
-  char chunk[1 << 16];
-  while (text.size() <= kMaxDocumentBytes) {
-    in->read(chunk, sizeof chunk);
-    text.append(chunk, std::size_t(in->gcount()));
-    if (!*in) break;
-  }
-  if (in->bad()) return std::nullopt;
-  return text;
-}
-
-// The pallet and suggested profile of a curated scenario, for a FILE argument that is no file.
-Result<PalletInput> curated_pallet(const std::string& arg) {
-  auto scenario = load_scenario(arg);
-  if (!scenario) {
-    std::string known;
-    for (const auto& slug : scenario_slugs()) known += (known.empty() ? "" : ", ") + slug;
-    return Result<PalletInput>::failure(
-        "", "cannot open '" + arg + "': there is no such file and no curated scenario of that " +
-                "name; check the path, or name one of " + known);
-  }
-  return Result<PalletInput>{
-      PalletInput{std::move(scenario->pallet), "", scenario->suggested_profile}, {}};
-}
-
-}  // namespace
-
 std::optional<std::string> read_input(const std::string& path) {
-  auto text = read_text(path);
+  auto text = read_document_text(path);
   if (!text) std::cerr << "palletballet-cli: cannot open '" << path << "'; check the path\n";
   return text;
-}
-
-Result<PalletInput> read_pallet(const std::string& arg) {
-  if (arg != "-" && !std::filesystem::exists(arg)) return curated_pallet(arg);
-  auto text = read_text(arg);
-  if (!text) {
-    const std::string what = "cannot open '" + arg + "'; check the path and its permissions";
-    return Result<PalletInput>::failure("", what);
-  }
-  auto json = parse_json(*text);
-  if (!json) return Result<PalletInput>::failure(std::move(json.diagnostics));
-  // A scenario file holds its pallet under "pallet".
-  PalletInput input;
-  const Json* pallet_json = &*json;
-  Diagnostics diags;
-  if (json->is_object() && json->contains("pallet") && (*json)["pallet"].is_object()) {
-    input.pointer_prefix = "/pallet";
-    pallet_json = &(*json)["pallet"];
-    if (json->contains("suggested_profile")) {
-      auto profile = profile_from_json((*json)["suggested_profile"], "/suggested_profile");
-      diags = std::move(profile.diagnostics);
-      input.suggested_profile = std::move(profile.value);
-    }
-  }
-  auto pallet = pallet_from_json(*pallet_json, input.pointer_prefix);
-  diags.insert(diags.end(), pallet.diagnostics.begin(), pallet.diagnostics.end());
-  if (!pallet || has_errors(diags)) return Result<PalletInput>::failure(std::move(diags));
-  input.pallet = std::move(*pallet.value);
-  return Result<PalletInput>{std::move(input), std::move(diags)};
 }
 
 void print_json(const Json& json) {
@@ -203,7 +135,7 @@ ValidationLimits limits_from(const Args& args) {
 
 int run_validate(const Args& args) {
   const ValidationLimits limits = limits_from(args);
-  auto input = read_pallet(args.positionals()[0]);
+  auto input = read_pallet_source(args.positionals()[0]);
   Diagnostics diags = input.diagnostics;
   if (input) {
     for (auto d : validate(input->pallet, limits)) {

@@ -60,7 +60,7 @@ int run_map(const Args& args) {
     ao.line.curve_radius_m = *r;
   }
   const std::string source = args.positionals()[0];
-  auto input = read_pallet(source);
+  auto input = read_pallet_source(source);
   print_diagnostics(input.diagnostics);
   if (!input) return kExitBadInput;
   Analyzer analyzer(ao);

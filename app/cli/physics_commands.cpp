@@ -31,8 +31,8 @@ double ms_since(std::chrono::steady_clock::time_point start) {
 
 // The pallet a FILE argument names, or nullopt after printing why not. Warnings that come with
 // the pallet are printed too.
-std::optional<PalletInput> pallet_arg(const std::string& arg) {
-  auto input = read_pallet(arg);
+std::optional<PalletSource> pallet_arg(const std::string& arg) {
+  auto input = read_pallet_source(arg);
   print_diagnostics(input.diagnostics);
   if (!input) return std::nullopt;
   return std::move(*input.value);
@@ -40,7 +40,7 @@ std::optional<PalletInput> pallet_arg(const std::string& arg) {
 
 // Diagnostics of the core about a pallet, with pointers into the document it was read from. An
 // empty pointer is about no part of the input (the engine) and stays empty.
-Diagnostics located(Diagnostics diagnostics, const PalletInput& input) {
+Diagnostics located(Diagnostics diagnostics, const PalletSource& input) {
   for (auto& d : diagnostics) {
     if (!d.pointer.empty()) d.pointer = input.pointer_prefix + d.pointer;
   }
@@ -242,7 +242,7 @@ FileAnalysis error_entry(const std::string& source, const Diagnostics& diagnosti
 // One file's SafetyResult (from the analyzer's cache for a pallet seen before) or, with probes,
 // its full envelope: every file's search is then run so that its probes can be listed.
 FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool with_probes) {
-  auto input = read_pallet(source);
+  auto input = read_pallet_source(source);
   if (!input) return error_entry(source, input.diagnostics, kExitBadInput);
   print_diagnostics(input.diagnostics);
   Json entry;

@@ -63,7 +63,7 @@ std::optional<std::vector<CorpusPallet>> corpus_from(const Args& args, int defau
     std::string arg;
     while (std::getline(in, arg, ',')) {
       if (arg.empty() || arg == "none") continue;
-      auto input = read_pallet(arg);
+      auto input = read_pallet_source(arg);
       print_diagnostics(input.diagnostics);
       if (!input) return std::nullopt;
       corpus.push_back({arg, std::move(input->pallet)});

@@ -13,6 +13,7 @@
 #include "core/contract/pallet_type.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/layer_layout.hpp"
+#include "core/inputs/pallet_source.hpp"
 #include "core/inputs/validation.hpp"
 #include "ui/models/stack_builder_model.hpp"
 
@@ -167,32 +168,24 @@ FileOutcome PalletDocument::open(const QString& path) {
   const QByteArray bytes = file.read(qint64(pb::kMaxDocumentBytes) + 1);  // parse_json refuses more
   auto json = pb::parse_json(std::string_view(bytes.constData(), bytes.size()));
   if (!json) return {false, messages_of(json.diagnostics)};
-  // A scenario file holds its pallet under "pallet" (as the CLI's reader accepts).
-  const bool isScenario =
-      json->is_object() && json->contains("pallet") && (*json)["pallet"].is_object();
-  pb::Result<pb::PalletConfig> pallet =
-      isScenario ? pb::pallet_from_json((*json)["pallet"], "/pallet") : pb::pallet_from_json(*json);
-  if (!pallet || pb::has_errors(pallet.diagnostics)) {
-    return {false, messages_of(pallet.diagnostics)};
-  }
-  QStringList messages = messages_of(pallet.diagnostics);
+  // A PalletConfig, or a scenario file holding one under "pallet" (the CLI's reader too).
+  auto source = pb::pallet_source_from_json(*json);
+  if (!source) return {false, messages_of(source.diagnostics)};
+  const bool isScenario = !source->pointer_prefix.empty();
+  QStringList messages = messages_of(source.diagnostics);
   _undo.clear();
   _dragOpen = false;
-  apply(*pallet);
+  apply(source->pallet);
   QString name = file_name(path);
   if (isScenario) {
-    const auto& j = *json;
-    if (j.contains("name") && j["name"].is_string()) {
-      name = QString::fromStdString(j["name"].get<std::string>());
-    }
+    if (!source->scenario_name.empty()) name = QString::fromStdString(source->scenario_name);
     setFile(QString(), tr("%1 (scenario)").arg(name));
   } else {
     setFile(QFileInfo(path).absoluteFilePath(), name);
   }
-  const QString prefix = isScenario ? QStringLiteral("/pallet") : QString();
   for (const auto& d : _diagnostics) {
     pb::Diagnostic shown = d;
-    shown.pointer = prefix.toStdString() + shown.pointer;
+    shown.pointer = source->pointer_prefix + shown.pointer;
     messages << QString::fromStdString(pb::to_string(shown));
   }
   emit modifiedChanged(false);
