@@ -47,22 +47,23 @@ QString ConsoleRequest::parse(const QString& slug, const QString& speed, const Q
   // The analysed range: the console's dials, its search and its map share it (MainWindow's
   // service runs the default options).
   const pb::SearchConfig range = pb::AnalyzerOptions{}.search;
-  auto outside = [](double v, double lo, double hi) { return !(v >= lo - 1e-9 && v <= hi + 1e-9); };
-  if (outside(out.profile.target_speed_mps, range.speed_min_mps, range.speed_max_mps)) {
+  // Empty when `v` is in [lo, hi], else what to change, naming the option.
+  auto outside = [](const char* option, double v, double lo, double hi, const char* unit) {
+    if (v >= lo - 1e-9 && v <= hi + 1e-9) return QString();
     return QStringLiteral(
-               "--profile-speed: %1 m/s is outside the analysed range; give %2 to %3 m/s (the "
-               "dials, the search and the failure map share it)")
-        .arg(out.profile.target_speed_mps)
-        .arg(range.speed_min_mps)
-        .arg(range.speed_max_mps);
-  }
-  if (outside(out.profile.accel_mps2, range.accel_min_mps2, range.accel_max_mps2)) {
-    return QStringLiteral(
-               "--profile-accel: %1 m/s^2 is outside the analysed range; give %2 to %3 m/s^2 (the "
-               "dials, the search and the failure map share it)")
-        .arg(out.profile.accel_mps2)
-        .arg(range.accel_min_mps2)
-        .arg(range.accel_max_mps2);
+               "%1: %2 %3 is outside the analysed range; give %4 to %5 %3 (the dials, the "
+               "search and the failure map share it)")
+        .arg(QLatin1String(option))
+        .arg(v)
+        .arg(QLatin1String(unit))
+        .arg(lo)
+        .arg(hi);
+  };
+  for (const QString& why : {outside("--profile-speed", out.profile.target_speed_mps,
+                                     range.speed_min_mps, range.speed_max_mps, "m/s"),
+                             outside("--profile-accel", out.profile.accel_mps2,
+                                     range.accel_min_mps2, range.accel_max_mps2, "m/s^2")}) {
+    if (!why.isEmpty()) return why;
   }
   for (const pb::Diagnostic& d : pb::errors_of(pb::validate_profile(out.profile))) {
     const QString option = d.pointer == "/target_speed_mps" ? QStringLiteral("--profile-speed")
