@@ -303,6 +303,7 @@ struct Batch::Impl {
   }
 
   void step_one(int worker, int sim, int nstep, const StepHooks& hooks) {
+    if (hooks.wanted && !hooks.wanted(sim)) return;
     mjModel* m = worker_model(worker);
     for (const Param& p : params) {
       const mjtNum* first = p.rows.data() + std::ptrdiff_t(sim) * p.size;

@@ -69,6 +69,9 @@ struct StepHooks {
   /// After every mj_step: return false to stop stepping this simulation for the rest of the call
   /// (its state after that step is kept).
   std::function<bool(int sim, const mjModel& model, const mjData& data)> observe;
+  /// Before a simulation is loaded and stepped in a call: false skips it for that call (its state
+  /// unchanged), e.g. once the work was cancelled. Absent: every selected simulation is stepped.
+  std::function<bool(int sim)> wanted = nullptr;
 };
 
 /// Why a call did not complete for every simulation it touched.

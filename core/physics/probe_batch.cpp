@@ -52,6 +52,8 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
     hooks.control = [&runs](int sim, const mjModel&, mjData& data) {
       runs[std::size_t(sim)]->before_step(data);
     };
+    // Cancelled: the runs not yet started are not loaded and stepped once each just to stop.
+    hooks.wanted = [&o](int) { return !is_cancelled(o.cancel); };
     hooks.observe = [&runs, &o](int sim, const mjModel& model, const mjData& data) {
       const bool more = runs[std::size_t(sim)]->after_step(model, data);
       if (!more && o.progress != nullptr) o.progress->finished();
@@ -82,6 +84,11 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
     out.push_back(run->take_result());
   }
   if (o.progress != nullptr && uncounted > 0) o.progress->finished(uncounted);
+  // A cancelled call is no answer: its stopped runs would read as unstable cells or samples.
+  if (is_cancelled(o.cancel)) {
+    return Out::failure(
+        "", std::string(kCancelledReason) + ": the batched runs were stopped before they ended");
+  }
   return Out{std::move(out), {}};
 }
 

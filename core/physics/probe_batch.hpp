@@ -23,8 +23,9 @@ using BatchConfigure = std::function<std::optional<std::string>(Batch& batch)>;
 
 /// Runs one probe (ProbeRun: the serial Simulator's logic) per profile from `rest`, all in one
 /// batched call on `threads` workers (0: every CPU). Result k is profile k's; an engine error or
-/// instability of one simulation makes its result unstable with the reason. Fails only when the
-/// batch itself cannot be made or run.
+/// instability of one simulation makes its result unstable with the reason. Fails when the batch
+/// itself cannot be made or run, and when `o.cancel` was set (a message starting "cancelled"):
+/// runs stopped part-way are no results.
 Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const RestState& rest,
                                                   const std::vector<ConveyorProfile>& profiles,
                                                   const SimOptions& options, int threads = 0,
