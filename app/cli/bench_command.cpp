@@ -18,6 +18,7 @@
 #include "core/inputs/scenario.hpp"
 #include "core/physics/batch.hpp"
 #include "core/physics/engine.hpp"
+#include "core/physics/probe_run.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
 
@@ -76,18 +77,7 @@ Result<Setup> make_setup(const Scenario& scenario) {
     if (!settled) return Result<Setup>::failure(std::move(settled.diagnostics));
     rest = std::move(*settled.value);
   }
-  auto probe = Batch::create(*setup.scene.model, 1, 1);
-  if (!probe) return Result<Setup>::failure(std::move(probe.diagnostics));
-  SimState s = probe->reset_state();
-  s.qpos = rest.state.qpos;
-  s.qvel = rest.state.qvel;
-  s.qacc_warmstart = rest.state.qacc_warmstart;
-  const SceneLayout& l = setup.scene.layout;
-  s.qvel[std::size_t(l.belt_x_dof)] += kRideSpeed;
-  s.qvel[std::size_t(l.pallet_dof)] += kRideSpeed;
-  for (int dof : l.item_dofs) s.qvel[std::size_t(dof)] += kRideSpeed;
-  s.ctrl[std::size_t(l.belt_x_act)] = kRideSpeed;
-  setup.start = std::move(s);
+  setup.start = start_state(setup.scene.layout, rest, kRideSpeed);
   return Result<Setup>{std::move(setup), {}};
 }
 

@@ -63,7 +63,7 @@ Json analyse(const PalletConfig& config) {
   auto data = make_data(m);
   int contacts = -1;
   if (data) {
-    load_rest_state(*m, p.scene->layout, p.rest, 0.0, **data);
+    load_rest_state(p.scene->layout, p.rest, 0.0, **data);
     mj_forward(m, data->get());
     contacts = (*data)->ncon;
   }

@@ -34,13 +34,16 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
   for (std::size_t k = 0; k < profiles.size(); ++k) {
     runs.push_back(std::make_unique<ProbeRun>(scene, rest, profiles[k], o));
     ProbeRun& run = *runs.back();
-    mj_resetData(&m, d);
-    load_rest_state(m, scene.layout, rest, run.initial_speed(), *d);
-    if (auto error = batch.value->set_state(int(k), capture_state(m, *d))) {
+    const SimState start = start_state(scene.layout, rest, run.initial_speed());
+    if (auto error = batch.value->set_state(int(k), start)) {
       return Out::failure("", "the batch could not load its start states: " + error->message);
     }
     if (run.done()) {
-      if (run.result().outcome != Outcome::unstable) run.finish(m, *d);
+      if (run.result().outcome != Outcome::unstable) {
+        mj_resetData(&m, d);
+        restore_state(start, *d);
+        run.finish(m, *d);
+      }
     } else {
       active.push_back(int(k));
       nstep = std::max(nstep, run.max_steps());

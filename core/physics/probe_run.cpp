@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numbers>
 
 #include "core/base/text.hpp"
@@ -75,21 +74,18 @@ double max_relative_speed(const SceneLayout& l, const mjData& d, double belt_vx,
   return max_relative(l, d.qvel, belt_vx, belt_vy, spin);
 }
 
-void load_rest_state(const mjModel& m, const SceneLayout& l, const RestState& rest,
-                     double initial_speed, mjData& d) {
-  restore_state(rest.state, d);
-  d.time = 0.0;
-  std::fill(d.ctrl, d.ctrl + m.nu, 0.0);
-  std::fill(d.act, d.act + m.na, 0.0);
-  std::fill(d.qfrc_applied, d.qfrc_applied + m.nv, 0.0);
-  std::fill(d.xfrc_applied, d.xfrc_applied + 6 * m.nbody, 0.0);
-  std::memset(d.warning, 0, sizeof(d.warning));
-  if (initial_speed != 0.0) {  // everything rides along at the initial speed
-    d.qvel[l.belt_x_dof] += initial_speed;
-    d.qvel[l.pallet_dof] += initial_speed;
-    for (int dof : l.item_dofs) d.qvel[dof] += initial_speed;
-    d.ctrl[l.belt_x_act] = initial_speed;
+SimState start_state(const SceneLayout& l, const RestState& rest, double initial_speed) {
+  SimState s = rest.state;
+  if (initial_speed != 0.0) {
+    for (int dof : {l.belt_x_dof, l.pallet_dof}) s.qvel[std::size_t(dof)] += initial_speed;
+    for (int dof : l.item_dofs) s.qvel[std::size_t(dof)] += initial_speed;
+    s.ctrl[std::size_t(l.belt_x_act)] = initial_speed;
   }
+  return s;
+}
+
+void load_rest_state(const SceneLayout& l, const RestState& rest, double initial_speed, mjData& d) {
+  restore_state(start_state(l, rest, initial_speed), d);
 }
 
 ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProfile& profile,

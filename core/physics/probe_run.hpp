@@ -41,10 +41,12 @@ double max_relative_speed(const SceneLayout& layout, const mjData& data, double 
 /// The largest linear acceleration of the pallet or an item relative to the belt's, and (in
 /// `spin`) the largest angular acceleration, of the step just taken.
 double max_relative_accel(const SceneLayout& layout, const mjData& data, double* spin);
-/// Puts `rest` into `data` at t = 0 with the load riding along at `initial_speed` (ctrl, applied
-/// forces and warning counters cleared).
-void load_rest_state(const mjModel& model, const SceneLayout& layout, const RestState& rest,
-                     double initial_speed, mjData& data);
+/// The state a probe starts from: `rest` (at t = 0, nothing applied, no warnings) with the belt,
+/// the pallet and every item riding along at `initial_speed`, the belt commanded to it.
+SimState start_state(const SceneLayout& layout, const RestState& rest, double initial_speed);
+/// Puts start_state(layout, rest, initial_speed) into `data`.
+void load_rest_state(const SceneLayout& layout, const RestState& rest, double initial_speed,
+                     mjData& data);
 
 /// One probe run. Construct, load the start state (load_rest_state with initial_speed()), then
 /// per step: before_step(data), mj_step, after_step(model, data) until it returns false. An engine

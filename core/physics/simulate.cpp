@@ -23,10 +23,17 @@ double Simulator::data_bytes() const {
 
 namespace {
 
-// The state a probe starts from: the data as it is now.
+// The state a probe starts from: the data as it is now, at t = 0, with no control, activation or
+// applied force, and no warning counted (the settle's are not the probe's).
 RestState capture(const mjModel& m, const mjData& d, const SceneLayout& l, double speed) {
   RestState rest;
   rest.state = capture_state(m, d);
+  rest.state.time = 0.0;
+  for (auto* v :
+       {&rest.state.ctrl, &rest.state.act, &rest.state.qfrc_applied, &rest.state.xfrc_applied}) {
+    std::fill(v->begin(), v->end(), 0.0);
+  }
+  rest.state.warning = {};
   rest.pallet = body_pose(d, l.pallet_body);
   read_item_poses(l, d, rest.items);
   rest.settle_time_s = d.time;
@@ -210,7 +217,7 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
   const mjModel* m = scene_->model.get();
   mjData* d = data_.get();
   ProbeRun probe(*scene_, rest, profile, o);
-  load_rest_state(*m, scene_->layout, rest, probe.initial_speed(), *d);
+  load_rest_state(scene_->layout, rest, probe.initial_speed(), *d);
   if (probe.done()) {
     if (probe.result().outcome == Outcome::unstable) return probe.take_result();
     probe.finish(*m, *d);  // nothing to step

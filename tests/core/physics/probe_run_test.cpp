@@ -43,7 +43,7 @@ SimResult by_hand(const Rig& r, const ConveyorProfile& profile, const SimOptions
   if (!data) qFatal("data");
   mjData* d = data.value->get();
   ProbeRun run(*r.scene, r.rest, profile, o);
-  load_rest_state(m, r.scene->layout, r.rest, run.initial_speed(), *d);
+  load_rest_state(r.scene->layout, r.rest, run.initial_speed(), *d);
   while (!run.done()) {
     run.before_step(*d);
     mj_step(&m, d);
@@ -265,7 +265,7 @@ class ProbeRunTest : public QObject {
     auto data = make_data(&m);
     QVERIFY(data);
     mjData* d = data.value->get();
-    load_rest_state(m, r->scene->layout, r->rest, 1.5, *d);
+    load_rest_state(r->scene->layout, r->rest, 1.5, *d);
     double spin = -1.0;
     QVERIFY(max_relative_speed(r->scene->layout, *d, 1.5, 0.0, &spin) < 0.01);
     QVERIFY(spin >= 0.0 && spin < 0.05);
