@@ -16,6 +16,7 @@
 #include "core/contract/json_io.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/friction.hpp"
+#include "core/inputs/pallet_source.hpp"
 #include "core/inputs/random_pallet.hpp"
 #include "core/inputs/scenario.hpp"
 #include "core/inputs/validation.hpp"
@@ -110,16 +111,6 @@ Read parse_body(const Request& request) {
   auto json = parse_json(request.body);
   if (!json) return diagnostics_response(400, json.diagnostics);
   return std::move(*json.value);
-}
-
-/// The pallet of a body: the body itself, or its "pallet" member when it has one.
-const Json& pallet_member(const Json& body, std::string& prefix) {
-  if (body.is_object() && body.contains("pallet") && body["pallet"].is_object()) {
-    prefix = "/pallet";
-    return body["pallet"];
-  }
-  prefix = "";
-  return body;
 }
 
 /// A valid pallet from `json` (read at `prefix`), or the response that says why not: 413 over the

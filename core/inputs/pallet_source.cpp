@@ -28,13 +28,18 @@ Result<PalletSource> curated_pallet(const std::string& arg) {
 
 }  // namespace
 
+const Json& pallet_member(const Json& document, std::string& prefix) {
+  const bool member =
+      document.is_object() && document.contains("pallet") && document["pallet"].is_object();
+  prefix = member ? "/pallet" : "";
+  return member ? document["pallet"] : document;
+}
+
 Result<PalletSource> pallet_source_from_json(const Json& json) {
   PalletSource source;
-  const Json* pallet_json = &json;
+  const Json& pallet_json = pallet_member(json, source.pointer_prefix);
   Diagnostics diags;
-  if (json.is_object() && json.contains("pallet") && json["pallet"].is_object()) {
-    source.pointer_prefix = "/pallet";
-    pallet_json = &json["pallet"];
+  if (!source.pointer_prefix.empty()) {
     if (json.contains("suggested_profile")) {
       auto profile = profile_from_json(json["suggested_profile"], "/suggested_profile");
       diags = std::move(profile.diagnostics);
@@ -44,7 +49,7 @@ Result<PalletSource> pallet_source_from_json(const Json& json) {
       source.scenario_name = json["name"].get<std::string>();
     }
   }
-  auto pallet = pallet_from_json(*pallet_json, source.pointer_prefix);
+  auto pallet = pallet_from_json(pallet_json, source.pointer_prefix);
   diags.insert(diags.end(), pallet.diagnostics.begin(), pallet.diagnostics.end());
   if (!pallet || has_errors(diags)) return Result<PalletSource>::failure(std::move(diags));
   source.pallet = std::move(*pallet.value);
