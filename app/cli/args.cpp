@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "app/cli/args.hpp"
 
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
+#include <exception>
 
 namespace pb::cli {
 
@@ -20,39 +22,85 @@ const OptionSpec* find_option(const VerbSpec& spec, const std::string& name) {
                    " --help')"};
 }
 
+// The name of a long option as typed: "--seed=3" -> "seed".
+std::string long_name(const std::string& arg) {
+  const auto eq = arg.find('=');
+  return arg.substr(2, eq == std::string::npos ? std::string::npos : eq - 2);
+}
+
+// What CLI11 leaves over that is still an argument: a plain word, "-" (stdin), or a negative
+// number ("-5", "-.5"); anything else that starts with '-' is an option the verb does not have.
+bool is_positional(const std::string& arg) {
+  return arg.size() < 2 || arg[0] != '-' || (arg[1] >= '0' && arg[1] <= '9') || arg[1] == '.';
+}
+
 }  // namespace
 
 Args::Args(const VerbSpec& spec, const std::vector<std::string>& argv) : spec_(spec) {
-  for (std::size_t i = 0; i < argv.size(); ++i) {
-    const std::string& a = argv[i];
-    if (a == "--help" || a == "-h") {
+  // The verb's options as a CLI::App: "--name value" and "--name=value" for an option with a
+  // value (the word after it is its value whatever it looks like: "--offset -0.5"), a flag for an
+  // option without; the last of a repeated option counts. No positionals are declared: CLI11 leaves
+  // them, in order, with whatever it did not recognise (remaining()), and they are sorted below.
+  CLI::App app{spec.summary, spec.name};
+  app.set_help_flag();
+  app.allow_extras();
+  CLI::Option* help = nullptr;
+  std::vector<std::pair<const OptionSpec*, CLI::Option*>> options;
+  try {
+    help = app.add_flag("-h,--help");
+    for (const auto& o : spec.options) {
+      CLI::Option* option = o.value_name.empty() ? app.add_flag("--" + o.name)
+                                                 : app.add_option("--" + o.name)->expected(1);
+      option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+      options.emplace_back(&o, option);
+    }
+  } catch (const CLI::Error& e) {  // a malformed VerbSpec: a name CLI11 refuses or one twice
+    fail(spec, std::string("cannot take options: ") + e.what());
+  }
+  std::vector<std::string> reversed(argv.rbegin(), argv.rend());  // CLI11 parses from the back
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ArgumentMismatch&) {
+    if (help->count() > 0) {
       help_ = true;
       return;
     }
-    if (a.size() > 2 && a.starts_with("--")) {
-      std::string name = a.substr(2);
-      std::optional<std::string> value;
-      if (auto eq = name.find('='); eq != std::string::npos) {
-        value = name.substr(eq + 1);
-        name = name.substr(0, eq);
+    // CLI11 takes the word after an option as its value whatever it is, so a value is missing
+    // only when the option is the last word.
+    const std::string last = argv.empty() ? std::string() : argv.back();
+    const OptionSpec* option =
+        last.starts_with("--") ? find_option(spec, long_name(last)) : nullptr;
+    if (option == nullptr) fail(spec, "cannot read the arguments");
+    fail(spec, "--" + option->name + " needs a value " + option->value_name);
+  } catch (const CLI::Error& e) {
+    fail(spec, std::string("cannot read the arguments: ") + e.what());
+  } catch (const std::exception& e) {
+    fail(spec, std::string("cannot read the arguments: ") + e.what());
+  }
+  if (help->count() > 0) {
+    help_ = true;
+    return;
+  }
+  for (const auto& [o, option] : options) {
+    if (option->count() == 0) continue;
+    if (o->value_name.empty()) {
+      // CLI11 records a flag as "true", and "--flag=value" as the value.
+      for (const auto& result : option->results()) {
+        if (result != "true") fail(spec, "--" + o->name + " takes no value");
       }
-      const OptionSpec* option = find_option(spec, name);
-      if (option == nullptr) fail(spec, "unknown option --" + name);
-      if (option->value_name.empty()) {
-        if (value) fail(spec, "--" + name + " takes no value");
-        values_[name] = "";
-      } else {
-        if (!value) {
-          if (i + 1 >= argv.size())
-            fail(spec, "--" + name + " needs a value " + option->value_name);
-          value = argv[++i];
-        }
-        values_[name] = *value;
-      }
-    } else if (a.size() > 1 && a[0] == '-' && !(a[1] >= '0' && a[1] <= '9') && a[1] != '.') {
-      fail(spec, "unknown option " + a);
+      values_[o->name] = "";
     } else {
+      values_[o->name] = option->results().back();
+    }
+  }
+  bool only_positionals = false;  // after "--"
+  for (const std::string& a : app.remaining()) {
+    if (!only_positionals && a == "--") {
+      only_positionals = true;
+    } else if (only_positionals || is_positional(a)) {
       positionals_.push_back(a);
+    } else {
+      fail(spec, "unknown option " + (a.starts_with("--") ? "--" + long_name(a) : a));
     }
   }
   const int n = static_cast<int>(positionals_.size());

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// A small, strict command-line parser: each verb declares its options; anything else is an error
-// that names the option and points at --help.
+// A small, strict command-line parser over CLI11: each verb declares its options; anything else is
+// an error that names the verb and the option and points at --help.
 #pragma once
 
 #include <cstdint>
@@ -34,8 +34,11 @@ struct UsageError {
 
 class Args {
  public:
-  /// Parses argv after the verb. "--name value" and "--name=value" both work; "-" is a positional
-  /// (stdin). Unknown options, missing values and a wrong positional count throw UsageError.
+  /// Parses argv after the verb. "--name value" and "--name=value" both work (the word after an
+  /// option is its value, "--offset -0.5"); the last of a repeated option counts; "-" (stdin) and
+  /// negative numbers are positionals, and so is everything after "--"; --help or -h anywhere asks
+  /// for help. Unknown options, missing values, a value given to a flag and a wrong positional
+  /// count throw UsageError (CLI11's own errors included: nothing else is thrown).
   Args(const VerbSpec& spec, const std::vector<std::string>& argv);
 
   bool help() const { return help_; }

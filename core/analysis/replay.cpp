@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/analysis/replay.hpp"
 #include "core/base/text.hpp"
+#include "core/contract/json_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -122,157 +123,77 @@ Json failure_to_json(const std::optional<FailureEvent>& failure) {
 // Reading.
 
 std::string at(const std::string& pointer, std::string_view key) {
-  return pointer + "/" + json_pointer_token(key);
+  return member_pointer(pointer, key);
 }
 
 std::string at(const std::string& pointer, std::size_t index) {
-  return pointer + "/" + std::to_string(index);
+  return element_pointer(pointer, index);
 }
 
-class ReplayReader {
- public:
-  Diagnostics diagnostics;
+// A pose [x, y, z, qw, qx, qy, qz] whose quaternion is of unit length (within kUnitTolerance).
+bool read_pose(JsonReader& reader, const Json& json, const std::string& pointer, Pose& out) {
+  std::array<double, 7> v{};
+  if (!reader.numbers(json, pointer, v, "[x, y, z, qw, qx, qy, qz]")) return false;
+  out.pos = {v[0], v[1], v[2]};
+  out.quat = {v[3], v[4], v[5], v[6]};
+  const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+  if (std::abs(norm - 1.0) <= kUnitTolerance) return true;
+  reader.error(pointer, "the quaternion (qw, qx, qy, qz) has length " + short_number(norm) +
+                            "; write a unit quaternion");
+  return false;
+}
 
-  void error(std::string pointer, std::string message) {
-    diagnostics.push_back({std::move(pointer), std::move(message), Severity::error});
+// A required member read into `out`.
+template <class T>
+bool required(JsonReader& reader, const Json& object, const std::string& pointer,
+              std::string_view key, T& out) {
+  return reader.field(object, pointer, key, out, Need::required);
+}
+
+// The failure modes a detector fires: every mode but no_failure.
+constexpr auto kFiredModes = [] {
+  std::array<std::string_view, EnumTable<FailureMode>::names.size() - 1> names{};
+  std::size_t n = 0;
+  for (const auto& entry : EnumTable<FailureMode>::names) {
+    if (entry.value != FailureMode::no_failure) names[n++] = entry.name;
   }
+  return names;
+}();
 
-  /// The value of a required key of an object, or null after recording its absence.
-  const Json* require(const Json& object, const std::string& pointer, std::string_view key) {
-    const auto it = object.find(key);
-    if (it != object.end()) return &*it;
-    error(pointer, "the required key '" + std::string(key) + "' is missing; add it");
-    return nullptr;
-  }
-
-  void unknown_keys(const Json& object, const std::string& pointer,
-                    std::initializer_list<std::string_view> known) {
-    for (const auto& [key, value] : object.items()) {
-      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
-      diagnostics.push_back({at(pointer, key),
-                             "unknown key '" + key + "' is ignored; remove it or fix its spelling",
-                             Severity::warning});
-    }
-  }
-
-  /// Records an error unless `json` is an object: "expected <what>, found <type>; <remedy>".
-  bool object(const Json& json, const std::string& pointer, std::string_view what,
-              std::string_view remedy) {
-    if (json.is_object()) return true;
-    error(pointer, "expected " + std::string(what) + ", found " + json.type_name() + "; " +
-                       std::string(remedy));
-    return false;
-  }
-
-  bool number(const Json& json, const std::string& pointer, double& out) {
-    if (!json.is_number()) {
-      error(pointer,
-            std::string("expected a number, found ") + json.type_name() + "; write a plain number");
-      return false;
-    }
-    out = json.get<double>();
-    return true;
-  }
-
-  /// An array of exactly N numbers.
-  template <std::size_t N>
-  bool numbers(const Json& json, const std::string& pointer, std::string_view layout,
-               std::array<double, N>& out) {
-    if (!json.is_array() || json.size() != N) {
-      error(pointer, "expected an array of exactly " + std::to_string(N) + " numbers " +
-                         std::string(layout) + ", found " +
-                         (json.is_array() ? "an array of " + std::to_string(json.size())
-                                          : std::string(json.type_name())) +
-                         "; write " + std::to_string(N) + " numbers");
-      return false;
-    }
-    bool ok = true;
-    for (std::size_t k = 0; k < N; ++k) ok = number(json[k], at(pointer, k), out[k]) && ok;
-    return ok;
-  }
-
-  bool pose(const Json& json, const std::string& pointer, Pose& out) {
-    std::array<double, 7> v{};
-    if (!numbers(json, pointer, "[x, y, z, qw, qx, qy, qz]", v)) return false;
-    out.pos = {v[0], v[1], v[2]};
-    out.quat = {v[3], v[4], v[5], v[6]};
-    const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-    if (std::abs(norm - 1.0) <= kUnitTolerance) return true;
-    error(pointer, "the quaternion (qw, qx, qy, qz) has length " + short_number(norm) +
-                       "; write a unit quaternion");
-    return false;
-  }
-
-  /// An optional "schema_version": a whole number from 1 to kSchemaVersion.
-  void schema_version(const Json& object) {
-    const auto it = object.find("schema_version");
-    if (it == object.end()) return;
-    const std::string supported = "write a version from 1 to " + std::to_string(kSchemaVersion);
-    // nlohmann stores non-negative integers as unsigned, negative ones as signed.
-    const bool positive = it->is_number_unsigned()
-                              ? it->get<std::uint64_t>() >= 1
-                              : it->is_number_integer() && it->get<std::int64_t>() >= 1;
-    if (!positive) {
-      error("/schema_version", std::string("expected a whole number >= 1, found ") +
-                                   (it->is_number() ? it->dump() : it->type_name()) + "; " +
-                                   supported);
-    } else if (it->get<std::uint64_t>() > static_cast<std::uint64_t>(kSchemaVersion)) {
-      error("/schema_version", "schema_version " + it->dump() +
-                                   " is newer than this program reads; update the program or " +
-                                   supported);
-    }
-  }
-
-  template <class T>
-  void merge(Result<T> result, std::optional<T>& out) {
-    diagnostics.insert(diagnostics.end(), result.diagnostics.begin(), result.diagnostics.end());
-    out = std::move(result.value);
-  }
-};
-
-std::optional<FailureEvent> read_failure(ReplayReader& reader, const Json& json,
+std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
                                          const std::string& p) {
-  if (!reader.object(json, p, "a failure object or null",
-                     "write null or {\"mode\", \"time_s\", \"value\", \"items\"}")) {
+  if (!reader.object(json, p, "the failure",
+                     "null or {\"mode\", \"time_s\", \"value\", \"items\"}")) {
     return std::nullopt;
   }
   reader.unknown_keys(json, p, {"mode", "time_s", "value", "items"});
   FailureEvent event;
   bool ok = true;
-  if (const Json* mode = reader.require(json, p, "mode")) {
-    const auto value =
-        mode->is_string() ? enum_from_string<FailureMode>(mode->get<std::string>()) : std::nullopt;
-    if (!value || *value == FailureMode::no_failure) {
-      reader.error(at(p, "mode"),
-                   "expected the failure mode that fired; use tip_over, top_item_slide, "
-                   "pallet_slip or load_shift");
-      ok = false;
+  if (const Json* mode = reader.member(json, p, "mode", Need::required)) {
+    std::size_t index = 0;
+    if (reader.choice(*mode, at(p, "mode"), kFiredModes, index)) {
+      event.mode = *enum_from_string<FailureMode>(kFiredModes[index]);
     } else {
-      event.mode = *value;
+      ok = false;
     }
   } else {
     ok = false;
   }
-  const Json* time = reader.require(json, p, "time_s");
-  ok = time && reader.number(*time, at(p, "time_s"), event.time_s) && ok;
-  const Json* value = reader.require(json, p, "value");
-  ok = value && reader.number(*value, at(p, "value"), event.value) && ok;
-  if (const Json* items = reader.require(json, p, "items")) {
-    if (!items->is_array()) {
-      reader.error(at(p, "items"), std::string("expected an array of item indices, found ") +
-                                       items->type_name() + "; write e.g. [3, 7] or []");
-      ok = false;
-    }
-    for (std::size_t k = 0; items->is_array() && k < items->size(); ++k) {
-      const Json& item = (*items)[k];
-      if (item.is_number_integer() && item.get<std::int64_t>() >= 0 &&
-          item.get<std::int64_t>() <= std::numeric_limits<int>::max()) {
-        event.items.push_back(item.get<int>());
-      } else {
-        reader.error(at(at(p, "items"), k),
-                     "expected an item index (a whole number >= 0); write the item's position "
-                     "in the pallet's items");
+  ok = required(reader, json, p, "time_s", event.time_s) && ok;
+  ok = required(reader, json, p, "value", event.value) && ok;
+  const std::string ip = at(p, "items");
+  const Json* items = reader.member(json, p, "items", Need::required);
+  if (items && reader.array(*items, ip, "the item indices", "[3, 7] or []")) {
+    for (std::size_t k = 0; k < items->size(); ++k) {
+      int index = 0;
+      if (!reader.read((*items)[k], at(ip, k), index)) {
         ok = false;
+      } else if (index < 0) {
+        reader.error(at(ip, k), wording::out_of_range(std::to_string(index),
+                                                      "an item index, a whole number >= 0"));
+        ok = false;
+      } else {
+        event.items.push_back(index);
       }
     }
   } else {
@@ -283,20 +204,14 @@ std::optional<FailureEvent> read_failure(ReplayReader& reader, const Json& json,
 }
 
 // Reads "outcome" and "failure" and checks that they agree and that the failure's items exist.
-void read_verdict(ReplayReader& reader, const Json& json, int n_items, Replay& out) {
+void read_verdict(JsonReader& reader, const Json& json, int n_items, Replay& out) {
   bool outcome_ok = false;
-  if (const Json* outcome = reader.require(json, "", "outcome")) {
-    const bool known =
-        outcome->is_string() && std::find(kReplayOutcomes.begin(), kReplayOutcomes.end(),
-                                          outcome->get<std::string>()) != kReplayOutcomes.end();
-    if (known) {
-      out.outcome = outcome->get<std::string>();
-      outcome_ok = true;
-    } else {
-      reader.error("/outcome", "expected \"safe\", \"failed\" or \"unstable\"; use one of them");
-    }
+  if (const Json* outcome = reader.member(json, "", "outcome", Need::required)) {
+    std::size_t index = 0;
+    outcome_ok = reader.choice(*outcome, "/outcome", kReplayOutcomes, index);
+    if (outcome_ok) out.outcome = kReplayOutcomes[index];
   }
-  const Json* failure = reader.require(json, "", "failure");
+  const Json* failure = reader.member(json, "", "failure", Need::required);
   if (!failure) return;
   if (!failure->is_null()) {
     out.failure = read_failure(reader, *failure, "/failure");
@@ -319,29 +234,26 @@ void read_verdict(ReplayReader& reader, const Json& json, int n_items, Replay& o
 }
 
 // Reads one frame; `n_items` is the pallet's item count or kUnknown.
-std::optional<ReplayFrame> read_frame(ReplayReader& reader, const Json& json, const std::string& p,
+std::optional<ReplayFrame> read_frame(JsonReader& reader, const Json& json, const std::string& p,
                                       int n_items) {
-  if (!reader.object(json, p, "a frame object", "write {\"t\", \"belt\", \"pallet\", \"items\"}")) {
+  if (!reader.object(json, p, "a frame", "{\"t\", \"belt\", \"pallet\", \"items\"}")) {
     return std::nullopt;
   }
   reader.unknown_keys(json, p, {"t", "belt", "pallet", "items"});
   ReplayFrame frame;
-  bool ok = true;
-  const Json* t = reader.require(json, p, "t");
-  ok = t && reader.number(*t, at(p, "t"), frame.t) && ok;
+  bool ok = required(reader, json, p, "t", frame.t);
   std::array<double, 2> belt{};
-  const Json* belt_json = reader.require(json, p, "belt");
-  ok = belt_json && reader.numbers(*belt_json, at(p, "belt"), "[x, y]", belt) && ok;
+  const Json* belt_json = reader.member(json, p, "belt", Need::required);
+  ok = belt_json && reader.numbers(*belt_json, at(p, "belt"), belt, "[x, y]") && ok;
   frame.belt_x = belt[0];
   frame.belt_y = belt[1];
-  const Json* pallet = reader.require(json, p, "pallet");
-  ok = pallet && reader.pose(*pallet, at(p, "pallet"), frame.pallet) && ok;
-  const Json* items = reader.require(json, p, "items");
+  const Json* pallet = reader.member(json, p, "pallet", Need::required);
+  ok = pallet && read_pose(reader, *pallet, at(p, "pallet"), frame.pallet) && ok;
+  const Json* items = reader.member(json, p, "items", Need::required);
   if (!items) return std::nullopt;
   const std::string ip = at(p, "items");
-  if (!items->is_array()) {
-    reader.error(ip, std::string("expected an array of item poses, found ") + items->type_name() +
-                         "; write one [x, y, z, qw, qx, qy, qz] per item");
+  if (!reader.array(*items, ip, "the item poses",
+                    "[[x, y, z, qw, qx, qy, qz], ...], one per item")) {
     return std::nullopt;
   }
   if (n_items != kUnknown && items->size() != static_cast<std::size_t>(n_items)) {
@@ -352,19 +264,14 @@ std::optional<ReplayFrame> read_frame(ReplayReader& reader, const Json& json, co
   }
   frame.items.resize(items->size());
   for (std::size_t i = 0; i < items->size(); ++i) {
-    ok = reader.pose((*items)[i], at(ip, i), frame.items[i]) && ok;
+    ok = read_pose(reader, (*items)[i], at(ip, i), frame.items[i]) && ok;
   }
   if (!ok) return std::nullopt;
   return frame;
 }
 
-void read_frames(ReplayReader& reader, const Json& json, int n_items,
-                 std::vector<ReplayFrame>& out) {
-  if (!json.is_array()) {
-    reader.error("/frames", std::string("expected an array of frames, found ") + json.type_name() +
-                                "; write [] or a list of frames");
-    return;
-  }
+void read_frames(JsonReader& reader, const Json& json, int n_items, std::vector<ReplayFrame>& out) {
+  if (!reader.array(json, "/frames", "the frames", "[] or [{...}, ...]")) return;
   // Time of the previous frame that was read (-inf after a frame that could not be read).
   constexpr double kNone = -std::numeric_limits<double>::infinity();
   double previous_t = kNone;
@@ -436,29 +343,35 @@ Json replay_to_json(const Replay& replay) {
 }
 
 Result<Replay> replay_from_json(const Json& json) {
-  ReplayReader reader;
-  if (!reader.object(json, "", "a replay object", "write the document replay_to_json writes")) {
+  JsonReader reader;
+  if (!reader.object(json, "", "a replay",
+                     "{\"pallet\", \"profile\", \"outcome\", \"failure\", \"hz\", "
+                     "\"frames\"}")) {
     return Result<Replay>::failure(reader.diagnostics);
   }
-  reader.schema_version(json);
+  reader.schema_version(json, "");
   reader.unknown_keys(
       json, "", {"schema_version", "pallet", "profile", "outcome", "failure", "hz", "frames"});
   Replay out;
   std::optional<PalletConfig> pallet;
-  if (const Json* p = reader.require(json, "", "pallet")) {
-    reader.merge(pallet_from_json(*p, "/pallet"), pallet);
+  if (const Json* p = reader.member(json, "", "pallet", Need::required)) {
+    auto read = pallet_from_json(*p, "/pallet");
+    reader.merge(read.diagnostics);
+    pallet = std::move(read.value);
   }
   std::optional<ConveyorProfile> profile;
-  if (const Json* p = reader.require(json, "", "profile")) {
-    reader.merge(profile_from_json(*p, "/profile"), profile);
+  if (const Json* p = reader.member(json, "", "profile", Need::required)) {
+    auto read = profile_from_json(*p, "/profile");
+    reader.merge(read.diagnostics);
+    profile = std::move(read.value);
   }
   const int n_items = pallet ? static_cast<int>(pallet->items.size()) : kUnknown;
   read_verdict(reader, json, n_items, out);
-  if (const Json* hz = reader.require(json, "", "hz");
-      hz && reader.number(*hz, "/hz", out.hz) && !(out.hz > 0.0)) {
-    reader.error("/hz", "hz must be positive; write the frame rate, e.g. 30");
+  if (required(reader, json, "", "hz", out.hz) && !(out.hz > 0.0)) {
+    reader.error("/hz",
+                 wording::out_of_range(short_number(out.hz), "a frame rate above 0, e.g. 30"));
   }
-  if (const Json* frames = reader.require(json, "", "frames")) {
+  if (const Json* frames = reader.member(json, "", "frames", Need::required)) {
     read_frames(reader, *frames, n_items, out.frames);
   }
   if (has_errors(reader.diagnostics)) return Result<Replay>::failure(reader.diagnostics);

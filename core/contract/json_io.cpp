@@ -26,193 +26,44 @@ Json vec3_to_json(const Vec3& v) {
   return Json::array({v[0], v[1], v[2]});
 }
 
-std::string key_pointer(const std::string& pointer, std::string_view key) {
-  return pointer + "/" + json_pointer_token(key);
+std::string disagreement(std::string_view key, const std::string& stored,
+                         const std::string& expected) {
+  return std::string(key) + " is " + stored + " but the pallet gives " + expected +
+         "; the recomputed value is used, so correct or remove the stored one";
 }
 
-std::string type_name(const Json& json) {
-  return json.type_name();
+// Checks an optional stored computed number against its recomputed value.
+void check_computed(JsonReader& reader, const Json& object, const std::string& pointer,
+                    std::string_view key, double expected) {
+  const auto it = object.find(key);
+  if (it == object.end()) return;
+  const std::string where = member_pointer(pointer, key);
+  if (!it->is_number()) {
+    reader.warning(
+        where, std::string(key) + " is not a number and is ignored (it is recomputed); remove it");
+  } else if (!(std::abs(it->get<double>() - expected) <= kComputedTolerance)) {
+    reader.warning(where, disagreement(key, it->dump(), short_number(expected)));
+  }
 }
 
-// The value of a JSON integer that fits in 64 signed bits, or nullopt.
-std::optional<std::int64_t> as_integer(const Json& json) {
-  if (json.is_number_unsigned()) {
-    const auto value = json.get<std::uint64_t>();
-    if (value > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return {};
-    return static_cast<std::int64_t>(value);
+void check_computed(JsonReader& reader, const Json& object, const std::string& pointer,
+                    std::string_view key, const Vec3& expected) {
+  const auto it = object.find(key);
+  if (it == object.end()) return;
+  const std::string where = member_pointer(pointer, key);
+  JsonReader scratch;
+  Vec3 stored{};
+  if (!scratch.read(*it, where, stored)) {
+    reader.warning(where, std::string(key) + " is not an array of 3 numbers and is ignored (it " +
+                              "is recomputed); remove it");
+    return;
   }
-  if (json.is_number_integer()) return json.get<std::int64_t>();
-  return {};
-}
-
-// Collects the diagnostics of one read; every read_* records what is wrong and returns false.
-class Reader {
- public:
-  Diagnostics diagnostics;
-
-  void error(std::string pointer, std::string message) {
-    diagnostics.push_back({std::move(pointer), std::move(message), Severity::error});
-  }
-  void warning(std::string pointer, std::string message) {
-    diagnostics.push_back({std::move(pointer), std::move(message), Severity::warning});
-  }
-
-  bool read(const Json& json, const std::string& pointer, double& out) {
-    if (!json.is_number()) {
-      error(pointer, "expected a number, found " + type_name(json) + "; write a plain number");
-      return false;
-    }
-    out = json.get<double>();
-    return true;
-  }
-
-  bool read(const Json& json, const std::string& pointer, int& out) {
-    const auto value = as_integer(json);
-    if (!value || *value < std::numeric_limits<int>::min() ||
-        *value > std::numeric_limits<int>::max()) {
-      error(pointer, "expected a whole number, found " +
-                         (value ? "one out of range" : type_name(json)) +
-                         "; write an integer such as 0");
-      return false;
-    }
-    out = static_cast<int>(*value);
-    return true;
-  }
-
-  bool read(const Json& json, const std::string& pointer, std::string& out) {
-    if (!json.is_string()) {
-      error(pointer, "expected a string, found " + type_name(json) + "; write it in quotes");
-      return false;
-    }
-    out = json.get<std::string>();
-    return true;
-  }
-
-  bool read(const Json& json, const std::string& pointer, Vec3& out) {
-    if (!json.is_array() || json.size() != 3) {
-      error(pointer,
-            "expected an array of exactly 3 numbers [x, y, z], found " +
-                (json.is_array() ? "an array of " + std::to_string(json.size()) : type_name(json)) +
-                "; write three numbers");
-      return false;
-    }
-    bool ok = true;
-    for (std::size_t k = 0; k < 3; ++k) {
-      ok = read(json[k], pointer + "/" + std::to_string(k), out[k]) && ok;
-    }
-    return ok;
-  }
-
-  template <class E>
-  requires std::is_enum_v<E>
-  bool read(const Json& json, const std::string& pointer, E& out) {
-    const auto value =
-        json.is_string() ? enum_from_string<E>(json.get<std::string>()) : std::optional<E>{};
-    if (!value) {
-      error(pointer, (json.is_string() ? "'" + json.get<std::string>() + "' is not a valid choice"
-                                       : "expected a string, found " + type_name(json)) +
-                         "; use one of " + enum_choices<E>());
-      return false;
-    }
-    out = *value;
-    return true;
-  }
-
-  /// Reads `key` of `object` into `out` if present; an absent required key is an error.
-  template <class T>
-  bool field(const Json& object, const std::string& pointer, std::string_view key, T& out,
-             bool required = false) {
-    const auto it = object.find(key);
-    if (it == object.end()) {
-      if (required) {
-        error(pointer, "the required key '" + std::string(key) + "' is missing; add it");
-      }
-      return !required;
-    }
-    return read(*it, key_pointer(pointer, key), out);
-  }
-
-  /// Reads an optional "schema_version": an integer no newer than kSchemaVersion.
-  void schema_version(const Json& object, const std::string& pointer) {
-    const auto it = object.find("schema_version");
-    if (it == object.end()) return;
-    const std::string where = key_pointer(pointer, "schema_version");
-    const std::string supported = "use a version from 1 to " + std::to_string(kSchemaVersion);
-    const auto version = as_integer(*it);
-    if (!version) {
-      error(where, "schema_version must be an integer, found " + type_name(*it) + "; " + supported);
-    } else if (*version < 1 || *version > kSchemaVersion) {
-      error(where, "schema_version " + std::to_string(*version) +
-                       " is not one this program reads; " + supported +
-                       (*version > kSchemaVersion ? ", or update the program" : ""));
-    }
-  }
-
-  /// Warns about every key of `object` not in `known`.
-  void unknown_keys(const Json& object, const std::string& pointer,
-                    const std::vector<std::string_view>& known) {
-    for (const auto& [key, value] : object.items()) {
-      if (std::find(known.begin(), known.end(), key) == known.end()) {
-        warning(key_pointer(pointer, key),
-                "unknown key '" + key + "' is ignored; check its spelling");
-      }
-    }
-  }
-
-  /// Checks an optional stored computed number against its recomputed value.
-  void computed(const Json& object, const std::string& pointer, std::string_view key,
-                double expected) {
-    const auto it = object.find(key);
-    if (it == object.end()) return;
-    const std::string where = key_pointer(pointer, key);
-    if (!it->is_number()) {
-      warning(where, std::string(key) + " is not a number and is ignored (it is recomputed); " +
-                         "remove it");
-    } else if (!(std::abs(it->get<double>() - expected) <= kComputedTolerance)) {
-      warning(where, disagreement(key, it->dump(), short_number(expected)));
-    }
-  }
-
-  void computed(const Json& object, const std::string& pointer, std::string_view key,
-                const Vec3& expected) {
-    const auto it = object.find(key);
-    if (it == object.end()) return;
-    const std::string where = key_pointer(pointer, key);
-    Reader scratch;
-    Vec3 stored{};
-    if (!scratch.read(*it, where, stored)) {
-      warning(where, std::string(key) + " is not an array of 3 numbers and is ignored (it is " +
-                         "recomputed); remove it");
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!(std::abs(stored[k] - expected[k]) <= kComputedTolerance)) {
+      reader.warning(where, disagreement(key, it->dump(), vec3_to_json(expected).dump()));
       return;
     }
-    for (std::size_t k = 0; k < 3; ++k) {
-      if (!(std::abs(stored[k] - expected[k]) <= kComputedTolerance)) {
-        warning(where, disagreement(key, it->dump(), vec3_to_json(expected).dump()));
-        return;
-      }
-    }
   }
-
- private:
-  static std::string disagreement(std::string_view key, const std::string& stored,
-                                  const std::string& expected) {
-    return std::string(key) + " is " + stored + " but the pallet gives " + expected +
-           "; the recomputed value is used, so correct or remove the stored one";
-  }
-};
-
-bool require_object(Reader& reader, const Json& json, const std::string& pointer,
-                    const char* what) {
-  if (json.is_object()) return true;
-  reader.error(pointer, std::string("expected ") + what + " as a JSON object, found " +
-                            type_name(json) + "; write it as {\"key\": value, ...}");
-  return false;
-}
-
-template <class T>
-Result<T> finish(Reader& reader, T value) {
-  if (has_errors(reader.diagnostics)) return Result<T>::failure(std::move(reader.diagnostics));
-  return Result<T>{std::move(value), std::move(reader.diagnostics)};
 }
 
 Json to_json_value(double value) {
@@ -304,14 +155,14 @@ Json write_fields(const T& value, Fields fields) {
 // Reads every field of the table into `value`, warning about keys outside the table and `extra`.
 // Returns whether every field was read.
 template <class T, class Fields>
-bool read_fields(Reader& reader, const Json& json, const std::string& pointer, T& value,
+bool read_fields(JsonReader& reader, const Json& json, const std::string& pointer, T& value,
                  Fields fields, std::initializer_list<std::string_view> extra) {
   std::vector<std::string_view> known(extra);
   fields(value, [&known](std::string_view key, auto&, bool) { known.push_back(key); });
   reader.unknown_keys(json, pointer, known);
   bool ok = true;
   fields(value, [&](std::string_view key, auto& member, bool required) {
-    ok = reader.field(json, pointer, key, member, required) && ok;
+    ok = reader.field(json, pointer, key, member, required ? Need::required : Need::optional) && ok;
   });
   return ok;
 }
@@ -320,13 +171,13 @@ bool read_fields(Reader& reader, const Json& json, const std::string& pointer, T
 template <class T, class Fields>
 Result<T> read_document(const Json& json, const std::string& pointer, const char* what,
                         Fields fields) {
-  Reader reader;
+  JsonReader reader;
   T value;
-  if (require_object(reader, json, pointer, what)) {
+  if (reader.object(json, pointer, what)) {
     reader.schema_version(json, pointer);
     read_fields(reader, json, pointer, value, fields, {"schema_version"});
   }
-  return finish(reader, std::move(value));
+  return reader.finish(std::move(value));
 }
 
 template <class T, class Fields>
@@ -336,41 +187,37 @@ Json write_document(const T& value, Fields fields) {
   return json;
 }
 
-bool read_item(Reader& reader, const Json& json, const std::string& pointer, Item& item) {
-  if (!require_object(reader, json, pointer, "an item")) return false;
+bool read_item(JsonReader& reader, const Json& json, const std::string& pointer, Item& item) {
+  if (!reader.object(json, pointer, "an item")) return false;
   return read_fields(reader, json, pointer, item, ItemFields{}, {"center_of_mass"});
 }
 
-void read_items(Reader& reader, const Json& json, const std::string& pointer,
+void read_items(JsonReader& reader, const Json& json, const std::string& pointer,
                 std::vector<Item>& items) {
-  if (!json.is_array()) {
-    reader.error(pointer, "expected an array of items, found " + type_name(json) +
-                              "; write \"items\": [ {...}, ... ]");
-    return;
-  }
+  if (!reader.array(json, pointer, "the items", "[ {...}, ... ]")) return;
   items.resize(json.size());
   for (std::size_t i = 0; i < json.size(); ++i) {
-    read_item(reader, json[i], pointer + "/" + std::to_string(i), items[i]);
+    read_item(reader, json[i], element_pointer(pointer, i), items[i]);
   }
 }
 
-void read_notes(Reader& reader, const Json& object, const std::string& pointer,
+void read_notes(JsonReader& reader, const Json& object, const std::string& pointer,
                 std::string& notes) {
-  const auto it = object.find("notes");
-  if (it == object.end() || it->is_null()) return;
-  reader.read(*it, key_pointer(pointer, "notes"), notes);
+  const Json* value = reader.member(object, pointer, "notes", Need::optional);
+  if (value == nullptr || value->is_null()) return;
+  reader.read(*value, member_pointer(pointer, "notes"), notes);
 }
 
-void check_computed(Reader& reader, const Json& json, const std::string& pointer,
+void check_computed(JsonReader& reader, const Json& json, const std::string& pointer,
                     const PalletConfig& config) {
-  reader.computed(json, pointer, "total_mass_kg", total_mass_kg(config));
-  reader.computed(json, pointer, "composite_com_m", composite_com_m(config));
-  reader.computed(json, pointer, "stack_height_m", stack_height_m(config));
-  reader.computed(json, pointer, "overhang_m", overhang_m(config));
+  check_computed(reader, json, pointer, "total_mass_kg", total_mass_kg(config));
+  check_computed(reader, json, pointer, "composite_com_m", composite_com_m(config));
+  check_computed(reader, json, pointer, "stack_height_m", stack_height_m(config));
+  check_computed(reader, json, pointer, "overhang_m", overhang_m(config));
   const Json& items = json["items"];
   for (std::size_t i = 0; i < config.items.size(); ++i) {
-    reader.computed(items[i], pointer + "/items/" + std::to_string(i), "center_of_mass",
-                    config.items[i].center_of_mass());
+    check_computed(reader, items[i], element_pointer(member_pointer(pointer, "items"), i),
+                   "center_of_mass", config.items[i].center_of_mass());
   }
 }
 
@@ -426,9 +273,9 @@ Json safety_result_to_json(const SafetyResult& result) {
 }
 
 Result<PalletConfig> pallet_from_json(const Json& json, const std::string& pointer_prefix) {
-  Reader reader;
+  JsonReader reader;
   const std::string& p = pointer_prefix;
-  if (!require_object(reader, json, p, "a pallet")) return finish(reader, PalletConfig{});
+  if (!reader.object(json, p, "a pallet")) return reader.finish(PalletConfig{});
   reader.schema_version(json, p);
   reader.unknown_keys(
       json, p,
@@ -440,19 +287,17 @@ Result<PalletConfig> pallet_from_json(const Json& json, const std::string& point
   reader.field(json, p, "base_pallet_type", config.base_pallet_type);
   reader.field(json, p, "base_dims_m", config.base_dims_m);
   reader.field(json, p, "base_mass_kg", config.base_mass_kg);
-  if (const auto it = json.find("items"); it != json.end()) {
-    read_items(reader, *it, key_pointer(p, "items"), config.items);
-  } else {
-    reader.error(p, "the required key 'items' is missing; add \"items\": [] or a list of items");
+  if (const Json* items = reader.member(json, p, "items", Need::required)) {
+    read_items(reader, *items, member_pointer(p, "items"), config.items);
   }
   reader.field(json, p, "wrap", config.wrap);
-  reader.field(json, p, "env", config.env, true);
-  reader.field(json, p, "body_temp_c", config.body_temp_c, true);
+  reader.field(json, p, "env", config.env, Need::required);
+  reader.field(json, p, "body_temp_c", config.body_temp_c, Need::required);
   reader.field(json, p, "seconds_since_temp_change", config.seconds_since_temp_change);
   read_notes(reader, json, p, config.notes);
   reader.field(json, p, "belt_surface", config.belt_surface);
   if (!has_errors(reader.diagnostics)) check_computed(reader, json, p, config);
-  return finish(reader, std::move(config));
+  return reader.finish(std::move(config));
 }
 
 Result<ConveyorProfile> profile_from_json(const Json& json, const std::string& pointer_prefix) {

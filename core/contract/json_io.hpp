@@ -5,17 +5,15 @@
 // value or diagnostics with a JSON pointer and a sentence that says what to change.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string_view>
 
 #include "core/base/diagnostic.hpp"
 #include "core/contract/conveyor_profile.hpp"
+#include "core/contract/json_reader.hpp"
 #include "core/contract/pallet_config.hpp"
 #include "core/contract/safety_result.hpp"
 
 namespace pb {
-
-using Json = nlohmann::json;
 
 /// Writes an item; with `computed`, also its "center_of_mass" (as the reference does).
 Json item_to_json(const Item& item, bool computed = true);

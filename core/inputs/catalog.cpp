@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/base/resources.hpp"
+#include "core/contract/json_reader.hpp"
 
 namespace pb {
 
@@ -40,11 +41,12 @@ std::vector<std::string> split_csv_line(std::string_view line) {
   return fields;
 }
 
+// The whole text as a number (finite or not), like a JSON number read from a cell.
 bool parse_double(const std::string& text, double& out) {
   const char* begin = text.data();
   const char* end = begin + text.size();
   auto [ptr, ec] = std::from_chars(begin, end, out);
-  return ec == std::errc() && ptr == end && std::isfinite(out);
+  return ec == std::errc() && ptr == end;
 }
 
 }  // namespace
@@ -92,25 +94,29 @@ Result<Catalog> Catalog::from_csv(std::string_view text) {
     double* numbers[] = {&t.weight_kg, &t.dims_m[0], &t.dims_m[1], &t.dims_m[2]};
     for (int k = 0; k < 4; ++k) {
       const std::string& f = fields[static_cast<std::size_t>(2 + k)];
-      if (!parse_double(f, *numbers[k]) || *numbers[k] <= 0.0) {
-        diags.push_back({where + "/" + std::string(kColumns[2 + k]),
-                         "'" + f + "' is not a positive number; write it in " +
-                             (k == 0 ? "kilograms" : "metres") + " (e.g. 0.40)"});
+      const std::string pointer = where + "/" + std::string(kColumns[2 + k]);
+      if (!parse_double(f, *numbers[k])) {
+        diags.push_back(
+            {pointer, wording::wrong_type("a number", "'" + f + "'", "write a plain number")});
+        row_ok = false;
+      } else if (!(*numbers[k] > 0.0) || !std::isfinite(*numbers[k])) {
+        diags.push_back({pointer, wording::out_of_range(f, k == 0 ? "a number of kilograms above 0"
+                                                                  : "a number of metres above 0")});
         row_ok = false;
       }
     }
     if (auto v = enum_from_string<Fragility>(fields[6])) {
       t.fragility = *v;
     } else {
-      diags.push_back({where + "/fragility",
-                       "unknown fragility '" + fields[6] + "'; use " + enum_choices<Fragility>()});
+      diags.push_back(
+          {where + "/fragility", wording::not_a_choice(fields[6], enum_choices<Fragility>())});
       row_ok = false;
     }
     if (auto v = enum_from_string<Environment>(fields[8])) {
       t.default_env = *v;
     } else {
-      diags.push_back({where + "/default_env", "unknown environment '" + fields[8] + "'; use " +
-                                                   enum_choices<Environment>()});
+      diags.push_back(
+          {where + "/default_env", wording::not_a_choice(fields[8], enum_choices<Environment>())});
       row_ok = false;
     }
     if (row_ok) catalog.skus_.push_back(std::move(t));

@@ -5,17 +5,17 @@
 #include <cmath>
 #include <initializer_list>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "core/base/resources.hpp"
+#include "core/base/text.hpp"
+#include "core/contract/json_io.hpp"
+#include "core/contract/json_reader.hpp"
 #include "core/contract/pallet_type.hpp"
 
 namespace pb {
 
 namespace {
-
-using Json = nlohmann::json;
 
 constexpr double kMuMax = 2.0;
 constexpr std::string_view kBeltTable = "resources/friction_table.json";
@@ -26,102 +26,63 @@ void error(Diagnostics& out, std::string pointer, std::string message) {
   out.push_back({std::move(pointer), std::move(message), Severity::error});
 }
 
-// Warns about keys that are neither known nor comments ("_comment", "_units", ...).
-void warn_unknown_keys(const Json& object, std::initializer_list<std::string_view> known,
-                       const std::string& where, Diagnostics& out) {
-  for (const auto& [key, value] : object.items()) {
-    if (key.starts_with('_') || std::find(known.begin(), known.end(), key) != known.end()) continue;
-    out.push_back({where + "/" + json_pointer_token(key),
-                   "unknown key '" + key + "' is ignored; remove it or prefix it with '_'",
-                   Severity::warning});
-  }
-}
-
-// The finite number `object[name]`, or nullopt with an error.
-std::optional<double> read_number(const Json& object, const char* name, const std::string& where,
-                                  Diagnostics& out) {
-  const std::string pointer = where + "/" + name;
-  const auto it = object.find(name);
-  if (it == object.end()) {
-    error(out, pointer, std::string("'") + name + "' is missing; add it as a number");
-    return std::nullopt;
-  }
-  if (!it->is_number() || !std::isfinite(it->get<double>())) {
-    error(out, pointer, std::string("'") + name + "' must be a finite number");
-    return std::nullopt;
-  }
-  return it->get<double>();
-}
-
-// An optional string member; an error if present and not a string.
-std::string read_text(const Json& object, const char* name, const std::string& where,
-                      Diagnostics& out) {
-  const auto it = object.find(name);
-  if (it == object.end()) return {};
-  if (!it->is_string()) {
-    error(out, where + "/" + name, std::string("'") + name + "' must be a string");
-    return {};
-  }
-  return it->get<std::string>();
-}
-
 bool mu_in_range(double mu) {
   return mu >= 0.0 && mu <= kMuMax;
 }
 
-std::optional<FrictionPoint> read_point(const Json& json, const std::string& where,
-                                        Diagnostics& out) {
-  if (!json.is_object()) {
-    error(out, where, "a control point must be an object {\"temp_c\", \"mu_s\", \"mu_d\"}");
+std::optional<FrictionPoint> read_point(JsonReader& reader, const Json& json,
+                                        const std::string& where) {
+  if (!reader.object(json, where, "a control point",
+                     "{\"temp_c\": ..., \"mu_s\": ..., \"mu_d\": ...}")) {
     return std::nullopt;
   }
-  warn_unknown_keys(json, {"temp_c", "mu_s", "mu_d"}, where, out);
-  const auto temp = read_number(json, "temp_c", where, out);
-  const auto mu_s = read_number(json, "mu_s", where, out);
-  const auto mu_d = read_number(json, "mu_d", where, out);
-  if (!temp || !mu_s || !mu_d) return std::nullopt;
-  bool ok = true;
-  for (const auto& [name, mu] : {std::pair{"mu_s", *mu_s}, std::pair{"mu_d", *mu_d}}) {
+  reader.unknown_keys(json, where, {"temp_c", "mu_s", "mu_d"}, Comments::underscore);
+  FrictionPoint point;
+  bool ok = reader.field(json, where, "temp_c", point.temp_c, Need::required);
+  ok = reader.field(json, where, "mu_s", point.mu_s, Need::required) && ok;
+  ok = reader.field(json, where, "mu_d", point.mu_d, Need::required) && ok;
+  if (!ok) return std::nullopt;
+  for (const auto& [name, mu] : {std::pair{"mu_s", point.mu_s}, std::pair{"mu_d", point.mu_d}}) {
     if (mu_in_range(mu)) continue;
-    error(out, where + "/" + name,
-          std::string(name) + " is " + std::to_string(mu) + "; a friction coefficient must be in " +
-              "[0, 2]");
+    reader.error(member_pointer(where, name),
+                 wording::out_of_range(short_number(mu), "a friction coefficient in [0, 2]"));
     ok = false;
   }
-  if (ok && *mu_d > *mu_s) {
-    error(out, where + "/mu_d",
-          "mu_d (" + std::to_string(*mu_d) + ") is above mu_s (" + std::to_string(*mu_s) +
-              "); dynamic friction cannot exceed static friction, lower mu_d or raise mu_s");
+  if (ok && point.mu_d > point.mu_s) {
+    reader.error(member_pointer(where, "mu_d"),
+                 "mu_d (" + short_number(point.mu_d) + ") is above mu_s (" +
+                     short_number(point.mu_s) +
+                     "); dynamic friction cannot exceed static friction, lower mu_d or raise mu_s");
     ok = false;
   }
   if (!ok) return std::nullopt;
-  return FrictionPoint{*temp, *mu_s, *mu_d};
+  return point;
 }
 
 // Reads "control_points": at least one, strictly increasing temp_c.
-std::vector<FrictionPoint> read_points(const Json& pair, const std::string& where,
-                                       Diagnostics& out) {
-  const std::string pointer = where + "/control_points";
-  const auto it = pair.find("control_points");
-  if (it == pair.end() || !it->is_array() || it->empty()) {
-    error(out, pointer,
-          "'control_points' must be a non-empty array of {\"temp_c\", \"mu_s\", \"mu_d\"}");
+std::vector<FrictionPoint> read_points(JsonReader& reader, const Json& pair,
+                                       const std::string& where) {
+  const Json* list = reader.member(pair, where, "control_points", Need::required);
+  const std::string pointer = member_pointer(where, "control_points");
+  if (list == nullptr ||
+      !reader.array(*list, pointer, "the control points",
+                    "[{\"temp_c\": ..., \"mu_s\": ..., \"mu_d\": ...}, ...]", 1)) {
     return {};
   }
   std::vector<FrictionPoint> points;
   bool ok = true;
-  for (std::size_t i = 0; i < it->size(); ++i) {
-    const std::string point_where = pointer + "/" + std::to_string(i);
-    const auto point = read_point((*it)[i], point_where, out);
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const std::string point_where = element_pointer(pointer, i);
+    const auto point = read_point(reader, (*list)[i], point_where);
     if (!point) {
       ok = false;
       continue;
     }
     if (!points.empty() && point->temp_c <= points.back().temp_c) {
-      error(out, point_where + "/temp_c",
-            "temp_c " + std::to_string(point->temp_c) + " does not follow " +
-                std::to_string(points.back().temp_c) +
-                "; list control points in strictly increasing temperature");
+      reader.error(member_pointer(point_where, "temp_c"),
+                   "temp_c " + short_number(point->temp_c) + " does not follow " +
+                       short_number(points.back().temp_c) +
+                       "; list control points in strictly increasing temperature");
       ok = false;
     }
     points.push_back(*point);
@@ -130,72 +91,68 @@ std::vector<FrictionPoint> read_points(const Json& pair, const std::string& wher
   return points;
 }
 
-std::optional<SurfacePair> read_pair(const std::string& key, const Json& json, Diagnostics& out) {
-  const std::string where = "/surface_pairs/" + json_pointer_token(key);
+std::optional<SurfacePair> read_pair(JsonReader& reader, const std::string& key, const Json& json) {
+  const std::string where = member_pointer("/surface_pairs", key);
   const auto slash = key.find('/');
   if (slash == std::string::npos || slash == 0 || slash + 1 == key.size() ||
       key.find('/', slash + 1) != std::string::npos) {
-    error(out, where,
-          "surface pair key '" + key +
-              "' must name two surfaces as 'lower/upper' (e.g. 'wood_pallet/rubber_belt')");
+    reader.error(where,
+                 "surface pair key '" + key +
+                     "' must name two surfaces as 'lower/upper' (e.g. 'wood_pallet/rubber_belt')");
     return std::nullopt;
   }
-  if (!json.is_object()) {
-    error(out, where, "a surface pair must be an object with 'control_points'");
+  if (!reader.object(json, where, "a surface pair",
+                     "{\"description\": ..., \"source\": ..., \"control_points\": [...]}")) {
     return std::nullopt;
   }
-  warn_unknown_keys(json, {"description", "source", "control_points"}, where, out);
-  const std::size_t errors_before = errors_of(out).size();
+  reader.unknown_keys(json, where, {"description", "source", "control_points"},
+                      Comments::underscore);
+  const std::size_t errors_before = reader.error_count();
   SurfacePair pair;
   pair.key = key;
-  pair.description = read_text(json, "description", where, out);
-  pair.source = read_text(json, "source", where, out);
-  pair.points = read_points(json, where, out);
-  if (errors_of(out).size() != errors_before) return std::nullopt;
+  reader.field(json, where, "description", pair.description);
+  reader.field(json, where, "source", pair.source);
+  pair.points = read_points(reader, json, where);
+  if (reader.error_count() != errors_before) return std::nullopt;
   return pair;
 }
 
-std::optional<FrostMeltPenalty> read_penalty(const Json& json, Diagnostics& out) {
+std::optional<FrostMeltPenalty> read_penalty(JsonReader& reader, const Json& json) {
   const std::string where = "/transition_penalty";
-  if (!json.is_object()) {
-    error(out, where,
-          "'transition_penalty' must be an object with danger_zone_temp_c, min_multiplier and "
-          "recovery_seconds");
+  if (!reader.object(json, where, "the transition penalty",
+                     "{\"danger_zone_temp_c\": [low, high], \"min_multiplier\": ..., "
+                     "\"recovery_seconds\": ...}")) {
     return std::nullopt;
   }
-  warn_unknown_keys(json, {"danger_zone_temp_c", "min_multiplier", "recovery_seconds"}, where, out);
-  const std::size_t errors_before = errors_of(out).size();
+  reader.unknown_keys(json, where, {"danger_zone_temp_c", "min_multiplier", "recovery_seconds"},
+                      Comments::underscore);
+  const std::size_t errors_before = reader.error_count();
   FrostMeltPenalty penalty;
-  const std::string zone_where = where + "/danger_zone_temp_c";
-  const auto zone = json.find("danger_zone_temp_c");
-  if (zone == json.end() || !zone->is_array() || zone->size() != 2 || !(*zone)[0].is_number() ||
-      !(*zone)[1].is_number()) {
-    error(out, zone_where, "'danger_zone_temp_c' must be an array of two numbers [low, high]");
-  } else {
-    penalty.zone_lo_c = (*zone)[0].get<double>();
-    penalty.zone_hi_c = (*zone)[1].get<double>();
-    if (!std::isfinite(penalty.zone_lo_c) || !std::isfinite(penalty.zone_hi_c) ||
-        !(penalty.zone_lo_c < penalty.zone_hi_c)) {
-      error(out, zone_where,
-            "the danger zone must be finite with low < high; it is [" +
-                std::to_string(penalty.zone_lo_c) + ", " + std::to_string(penalty.zone_hi_c) + "]");
+  const std::string zone_where = member_pointer(where, "danger_zone_temp_c");
+  std::array<double, 2> zone{penalty.zone_lo_c, penalty.zone_hi_c};
+  if (const Json* zone_json = reader.member(json, where, "danger_zone_temp_c", Need::required);
+      zone_json && reader.numbers(*zone_json, zone_where, zone, "[low, high]")) {
+    penalty.zone_lo_c = zone[0];
+    penalty.zone_hi_c = zone[1];
+    if (!(penalty.zone_lo_c < penalty.zone_hi_c)) {
+      reader.error(zone_where, "the danger zone must have low < high; it is [" +
+                                   short_number(penalty.zone_lo_c) + ", " +
+                                   short_number(penalty.zone_hi_c) + "]");
     }
   }
-  if (const auto min = read_number(json, "min_multiplier", where, out)) {
-    penalty.min_multiplier = *min;
-    if (!(*min > 0.0 && *min <= 1.0)) {
-      error(out, where + "/min_multiplier",
-            "min_multiplier is " + std::to_string(*min) + "; it must be in (0, 1]");
-    }
+  if (reader.field(json, where, "min_multiplier", penalty.min_multiplier, Need::required) &&
+      !(penalty.min_multiplier > 0.0 && penalty.min_multiplier <= 1.0)) {
+    reader.error(
+        member_pointer(where, "min_multiplier"),
+        wording::out_of_range(short_number(penalty.min_multiplier), "a multiplier in (0, 1]"));
   }
-  if (const auto recovery = read_number(json, "recovery_seconds", where, out)) {
-    penalty.recovery_s = *recovery;
-    if (!(*recovery > 0.0)) {
-      error(out, where + "/recovery_seconds",
-            "recovery_seconds is " + std::to_string(*recovery) + "; it must be above 0");
-    }
+  if (reader.field(json, where, "recovery_seconds", penalty.recovery_s, Need::required) &&
+      !(penalty.recovery_s > 0.0)) {
+    reader.error(
+        member_pointer(where, "recovery_seconds"),
+        wording::out_of_range(short_number(penalty.recovery_s), "a number of seconds above 0"));
   }
-  if (errors_of(out).size() != errors_before) return std::nullopt;
+  if (reader.error_count() != errors_before) return std::nullopt;
   return penalty;
 }
 
@@ -249,49 +206,46 @@ Result<FrictionModel> FrictionModel::from_json_text(std::string_view text) {
 }
 
 Diagnostics FrictionModel::add_json_text(std::string_view text) {
-  Diagnostics out;
-  const Json json = Json::parse(text, nullptr, false);
-  if (json.is_discarded()) {
-    error(out, "", "the friction table is not valid JSON; fix its syntax");
-    return out;
+  auto parsed = parse_json(text);
+  if (!parsed) return std::move(parsed.diagnostics);
+  const Json& json = *parsed;
+  JsonReader reader;
+  if (!reader.object(json, "", "a friction table",
+                     "{\"surface_pairs\": {...}, \"transition_penalty\": {...}}")) {
+    return std::move(reader.diagnostics);
   }
-  if (!json.is_object()) {
-    error(out, "", "a friction table must be a JSON object with 'surface_pairs'");
-    return out;
-  }
-  warn_unknown_keys(json, {"surface_pairs", "transition_penalty"}, "", out);
-  const auto pairs = json.find("surface_pairs");
-  if (pairs == json.end() || !pairs->is_object()) {
-    error(out, "/surface_pairs",
-          "'surface_pairs' must be an object mapping 'lower/upper' keys to surface pairs");
-    return out;
+  reader.unknown_keys(json, "", {"surface_pairs", "transition_penalty"}, Comments::underscore);
+  const Json* pairs = reader.member(json, "", "surface_pairs", Need::required);
+  if (pairs == nullptr || !reader.object(*pairs, "/surface_pairs", "the surface pairs",
+                                         "{\"lower/upper\": {...}, ...}")) {
+    return std::move(reader.diagnostics);
   }
   std::vector<SurfacePair> read;
   for (const auto& [key, value] : pairs->items()) {
     if (find(key) != nullptr) {
-      error(out, "/surface_pairs/" + json_pointer_token(key),
-            "surface pair '" + key + "' is already defined by an earlier table; keep one of them");
+      reader.error(
+          member_pointer("/surface_pairs", key),
+          "surface pair '" + key + "' is already defined by an earlier table; keep one of them");
       continue;
     }
-    if (auto pair = read_pair(key, value, out)) read.push_back(std::move(*pair));
+    if (auto pair = read_pair(reader, key, value)) read.push_back(std::move(*pair));
   }
   std::optional<FrostMeltPenalty> penalty;
-  if (const auto it = json.find("transition_penalty"); it != json.end()) {
-    penalty = read_penalty(*it, out);
+  if (const Json* it = reader.member(json, "", "transition_penalty", Need::optional)) {
+    penalty = read_penalty(reader, *it);
     if (penalty && has_penalty_) {
-      out.push_back({"/transition_penalty",
+      reader.warning("/transition_penalty",
                      "the transition penalty of an earlier table applies and this one is "
-                     "ignored; remove it or merge the tables",
-                     Severity::warning});
+                     "ignored; remove it or merge the tables");
     }
   }
-  if (has_errors(out)) return out;
+  if (has_errors(reader.diagnostics)) return std::move(reader.diagnostics);
   std::move(read.begin(), read.end(), std::back_inserter(pairs_));
   if (penalty && !has_penalty_) {
     penalty_ = *penalty;
     has_penalty_ = true;
   }
-  return out;
+  return std::move(reader.diagnostics);
 }
 
 const FrictionModel& FrictionModel::builtin() {

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "core/base/resources.hpp"
+#include "core/contract/json_reader.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/random_pallet.hpp"
 #include "core/inputs/stack_builder.hpp"
@@ -14,111 +15,80 @@ namespace {
 
 constexpr std::string_view kScenarioDir = "scenarios/";
 
-// Reads a string member; missing or not a string is an error at /<key>.
-bool read_string(const Json& json, const char* key, std::string& out, Diagnostics& diags) {
-  auto it = json.find(key);
-  if (it == json.end() || !it->is_string()) {
-    diags.push_back({std::string("/") + key,
-                     std::string("'") + key + "' must be a string; add it to the scenario"});
-    return false;
-  }
-  out = it->get<std::string>();
-  return true;
-}
-
-template <class E>
-bool read_enum(const Json& json, const char* key, E& out, Diagnostics& diags,
-               const std::string& prefix) {
-  auto it = json.find(key);
-  if (it == json.end()) return true;  // keep the default
-  if (it->is_string()) {
-    if (auto v = enum_from_string<E>(it->get<std::string>())) {
-      out = *v;
-      return true;
-    }
-  }
-  diags.push_back(
-      {prefix + "/" + key, std::string("'") + key + "' must be one of " + enum_choices<E>()});
-  return false;
-}
-
-bool read_number(const Json& json, const char* key, double& out, Diagnostics& diags,
-                 const std::string& prefix) {
-  auto it = json.find(key);
-  if (it == json.end()) return true;
-  if (!it->is_number()) {
-    diags.push_back({prefix + "/" + key, std::string("'") + key + "' must be a number"});
-    return false;
-  }
-  out = it->get<double>();
-  return true;
-}
-
-bool read_int(const Json& json, const char* key, int& out, Diagnostics& diags,
-              const std::string& prefix) {
-  auto it = json.find(key);
-  if (it == json.end()) return true;
-  if (!it->is_number_integer()) {
-    diags.push_back({prefix + "/" + key, std::string("'") + key + "' must be a whole number"});
-    return false;
-  }
-  out = it->get<int>();
-  return true;
-}
-
+// The pallet the recipe's stacks build, with the diagnostics of reading the recipe before those of
+// building it.
 Result<PalletConfig> build_stacks_recipe(const Json& recipe, const std::string& slug) {
-  Diagnostics diags;
+  JsonReader reader;
+  const std::string where = "/recipe";
+  reader.unknown_keys(
+      recipe, where,
+      {"stacks", "base_pallet_type", "wrap", "env", "body_temp_c", "seconds_since_temp_change"});
   std::vector<StackSpec> stacks;
+  const std::string list_where = member_pointer(where, "stacks");
   const Json& list = recipe["stacks"];
-  if (!list.is_array()) return Result<PalletConfig>::failure("/recipe/stacks", "must be an array");
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string where = "/recipe/stacks/" + std::to_string(i);
-    StackSpec s;
-    if (!list[i].is_object() || !list[i].contains("sku") || !list[i]["sku"].is_string()) {
-      diags.push_back({where, "each stack needs at least a string 'sku'"});
-      continue;
+  if (reader.array(list, list_where, "the stacks",
+                   "[{\"sku\": ..., \"row\": ..., \"col\": ..., \"height\": ...}, ...]")) {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string stack_where = element_pointer(list_where, i);
+      if (!reader.object(list[i], stack_where, "a stack",
+                         "{\"sku\": ..., \"row\": ..., \"col\": ..., \"height\": ...}")) {
+        continue;
+      }
+      reader.unknown_keys(list[i], stack_where, {"sku", "row", "col", "height"});
+      StackSpec s;
+      bool ok = reader.field(list[i], stack_where, "sku", s.sku, Need::required);
+      ok = reader.field(list[i], stack_where, "row", s.row) && ok;
+      ok = reader.field(list[i], stack_where, "col", s.col) && ok;
+      ok = reader.field(list[i], stack_where, "height", s.height) && ok;
+      if (ok) stacks.push_back(std::move(s));
     }
-    s.sku = list[i]["sku"].get<std::string>();
-    read_int(list[i], "row", s.row, diags, where);
-    read_int(list[i], "col", s.col, diags, where);
-    read_int(list[i], "height", s.height, diags, where);
-    stacks.push_back(std::move(s));
   }
   StackBuildOptions options;
   options.pallet_id = slug;
-  read_enum(recipe, "base_pallet_type", options.base_pallet_type, diags, "/recipe");
-  read_enum(recipe, "wrap", options.wrap, diags, "/recipe");
-  read_enum(recipe, "env", options.env, diags, "/recipe");
-  read_number(recipe, "body_temp_c", options.body_temp_c, diags, "/recipe");
-  read_number(recipe, "seconds_since_temp_change", options.seconds_since_temp_change, diags,
-              "/recipe");
-  if (has_errors(diags)) return Result<PalletConfig>::failure(std::move(diags));
+  reader.field(recipe, where, "base_pallet_type", options.base_pallet_type);
+  reader.field(recipe, where, "wrap", options.wrap);
+  reader.field(recipe, where, "env", options.env);
+  reader.field(recipe, where, "body_temp_c", options.body_temp_c);
+  reader.field(recipe, where, "seconds_since_temp_change", options.seconds_since_temp_change);
+  if (has_errors(reader.diagnostics)) return Result<PalletConfig>::failure(reader.diagnostics);
   auto built = build_from_stacks(stacks, options, Catalog::builtin());
-  for (auto& d : built.diagnostics) d.pointer = "/recipe" + d.pointer;
+  for (auto& d : built.diagnostics) d.pointer = where + d.pointer;
+  built.diagnostics.insert(built.diagnostics.begin(), reader.diagnostics.begin(),
+                           reader.diagnostics.end());
   return built;
 }
 
+// The pallet the random recipe draws, with the diagnostics of reading the recipe before those of
+// drawing it.
 Result<PalletConfig> build_random_recipe(const Json& recipe) {
-  Diagnostics diags;
+  JsonReader reader;
+  reader.unknown_keys(recipe, "/recipe", {"random"});
+  const std::string where = "/recipe/random";
   const Json& r = recipe["random"];
-  if (!r.is_object()) return Result<PalletConfig>::failure("/recipe/random", "must be an object");
+  if (!reader.object(r, where, "the random recipe",
+                     "{\"seed\": ..., \"anomaly_rate\": ..., \"min_layers\": ..., ...}")) {
+    return Result<PalletConfig>::failure(reader.diagnostics);
+  }
+  reader.unknown_keys(r, where,
+                      {"seed", "anomaly_rate", "min_layers", "max_layers", "min_items_per_layer",
+                       "max_items_per_layer"});
   RandomPalletOptions options;
-  if (!r.contains("seed") || !r["seed"].is_number_unsigned()) {
-    return Result<PalletConfig>::failure("/recipe/random/seed",
-                                         "the random recipe needs a non-negative integer seed");
-  }
-  options.seed = r["seed"].get<std::uint64_t>();
-  read_number(r, "anomaly_rate", options.anomaly_rate, diags, "/recipe/random");
-  read_int(r, "min_layers", options.min_layers, diags, "/recipe/random");
-  read_int(r, "max_layers", options.max_layers, diags, "/recipe/random");
-  read_int(r, "min_items_per_layer", options.min_items_per_layer, diags, "/recipe/random");
-  read_int(r, "max_items_per_layer", options.max_items_per_layer, diags, "/recipe/random");
+  reader.field(r, where, "seed", options.seed, Need::required);
+  reader.field(r, where, "anomaly_rate", options.anomaly_rate);
+  reader.field(r, where, "min_layers", options.min_layers);
+  reader.field(r, where, "max_layers", options.max_layers);
+  reader.field(r, where, "min_items_per_layer", options.min_items_per_layer);
+  reader.field(r, where, "max_items_per_layer", options.max_items_per_layer);
+  if (has_errors(reader.diagnostics)) return Result<PalletConfig>::failure(reader.diagnostics);
   for (auto d : validate_random_options(options)) {
-    d.pointer = "/recipe/random" + d.pointer;
-    diags.push_back(std::move(d));
+    d.pointer = where + d.pointer;
+    reader.diagnostics.push_back(std::move(d));
   }
-  if (has_errors(diags)) return Result<PalletConfig>::failure(std::move(diags));
-  return random_pallet(options, Catalog::builtin());
+  if (has_errors(reader.diagnostics)) return Result<PalletConfig>::failure(reader.diagnostics);
+  auto drawn = random_pallet(options, Catalog::builtin());
+  drawn.diagnostics.insert(drawn.diagnostics.begin(), reader.diagnostics.begin(),
+                           reader.diagnostics.end());
+  return drawn;
 }
 
 }  // namespace
@@ -139,32 +109,31 @@ Json scenario_to_json(const Scenario& s) {
 }
 
 Result<Scenario> scenario_from_json(const Json& json) {
-  if (!json.is_object()) return Result<Scenario>::failure("", "a scenario must be a JSON object");
+  JsonReader reader;
   Scenario s;
-  Diagnostics diags;
-  read_string(json, "slug", s.slug, diags);
-  read_string(json, "name", s.name, diags);
-  read_string(json, "tag", s.tag, diags);
-  read_string(json, "description", s.description, diags);
-  read_string(json, "expected_failure", s.expected_failure, diags);
-  read_int(json, "order", s.order, diags, "");
-  if (auto it = json.find("recipe"); it != json.end()) s.recipe = *it;
-  if (auto it = json.find("pallet"); it == json.end()) {
-    diags.push_back({"/pallet", "the scenario has no 'pallet'; add the PalletConfig"});
-  } else {
-    auto pallet = pallet_from_json(*it, "/pallet");
-    diags.insert(diags.end(), pallet.diagnostics.begin(), pallet.diagnostics.end());
-    if (pallet) s.pallet = std::move(*pallet.value);
+  if (!reader.object(json, "", "a scenario")) return reader.finish(std::move(s));
+  reader.schema_version(json, "");
+  reader.unknown_keys(json, "",
+                      {"schema_version", "order", "slug", "name", "tag", "description",
+                       "expected_failure", "recipe", "pallet", "suggested_profile"});
+  reader.field(json, "", "slug", s.slug, Need::required);
+  reader.field(json, "", "name", s.name, Need::required);
+  reader.field(json, "", "tag", s.tag, Need::required);
+  reader.field(json, "", "description", s.description, Need::required);
+  reader.field(json, "", "expected_failure", s.expected_failure, Need::required);
+  reader.field(json, "", "order", s.order);
+  if (const Json* recipe = reader.member(json, "", "recipe", Need::optional)) s.recipe = *recipe;
+  if (const Json* pallet = reader.member(json, "", "pallet", Need::required)) {
+    auto read = pallet_from_json(*pallet, "/pallet");
+    reader.merge(read.diagnostics);
+    if (read) s.pallet = std::move(*read.value);
   }
-  if (auto it = json.find("suggested_profile"); it == json.end()) {
-    diags.push_back({"/suggested_profile", "the scenario has no 'suggested_profile'; add one"});
-  } else {
-    auto profile = profile_from_json(*it, "/suggested_profile");
-    diags.insert(diags.end(), profile.diagnostics.begin(), profile.diagnostics.end());
-    if (profile) s.suggested_profile = *profile.value;
+  if (const Json* profile = reader.member(json, "", "suggested_profile", Need::required)) {
+    auto read = profile_from_json(*profile, "/suggested_profile");
+    reader.merge(read.diagnostics);
+    if (read) s.suggested_profile = *read.value;
   }
-  if (has_errors(diags)) return Result<Scenario>::failure(std::move(diags));
-  return Result<Scenario>{std::move(s), std::move(diags)};
+  return reader.finish(std::move(s));
 }
 
 std::vector<Scenario> all_scenarios() {

@@ -245,7 +245,7 @@ class JsonIoTest : public QObject {
     QVERIFY(read.ok());
     QCOMPARE(read.diagnostics.size(), std::size_t{2});
     QCOMPARE(read.diagnostics[0],
-             (Diagnostic{"/foo", "unknown key 'foo' is ignored; check its spelling",
+             (Diagnostic{"/foo", "unknown key 'foo' is ignored; remove it or fix its spelling",
                          Severity::warning}));
     QCOMPARE(read.diagnostics[1].pointer, std::string("/items/0/colour"));
     QCOMPARE(read.diagnostics[1].severity, Severity::warning);

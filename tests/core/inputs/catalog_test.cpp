@@ -129,7 +129,8 @@ class CatalogTest : public QObject {
     const auto r = Catalog::from_csv(kHeader + "A-1,x,1,0.4,0.3,0.2,Rigid,c,frozen\n");
     QVERIFY(!r.ok());
     QCOMPARE(q(r.diagnostics[0].message),
-             QStringLiteral("unknown fragility 'Rigid'; use rigid, semi_rigid or deformable"));
+             QStringLiteral(
+                 "'Rigid' is not a valid choice; use one of rigid, semi_rigid or deformable"));
   }
 
   void makeItemCopiesTheSku() {
