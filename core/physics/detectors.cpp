@@ -72,28 +72,32 @@ std::string_view mode_words(FailureMode mode) {
   return "an unknown failure";
 }
 
-std::string describe(const FailureEvent& event) {
-  const std::string head =
-      std::string(to_string(event.mode)) + format(" at %.3f s: ", event.time_s);
+std::string what_moved(const FailureEvent& event) {
   const auto item = [&](std::size_t k) { return std::to_string(event.items[k]); };
   switch (event.mode) {
     case FailureMode::no_failure:
-      return "no_failure: the load stayed within every threshold";
+      return "the load stayed within every threshold";
     case FailureMode::tip_over:
-      return head + format("the pallet tilted %.1f deg", event.value);
+      return format("the pallet tilted %.1f deg", event.value);
     case FailureMode::top_item_slide:
       if (event.items.size() != 1) break;
-      return head + "item " + item(0) + format(" moved %.1f cm on the pallet", event.value * 100.0);
+      return "item " + item(0) + format(" moved %.1f cm on the pallet", event.value * 100.0);
     case FailureMode::load_shift:
       if (event.items.size() != 2) break;
-      return head + "items " + item(0) + " and " + item(1) +
+      return "items " + item(0) + " and " + item(1) +
              format(" moved %.1f cm relative to each other", event.value * 100.0);
     case FailureMode::pallet_slip:
-      return head + format("the pallet slipped %.0f cm relative to the belt", event.value * 100.0);
+      return format("the pallet slipped %.0f cm relative to the belt", event.value * 100.0);
     case FailureMode::cannot_stand:
-      return head + "the load moved with the belt standing still";
+      return "the load moved with the belt standing still";
   }
-  return head + format("measured %g", event.value);
+  return format("measured %g", event.value);
+}
+
+std::string describe(const FailureEvent& event) {
+  if (event.mode == FailureMode::no_failure) return "no_failure: " + what_moved(event);
+  return std::string(to_string(event.mode)) + format(" at %.3f s: ", event.time_s) +
+         what_moved(event);
 }
 
 Measure measure_tilt(const Pose& pallet) {

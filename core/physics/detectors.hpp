@@ -37,6 +37,9 @@ struct FailureEvent {
 /// identifier: what every panel and every sentence meant for a person says.
 std::string_view mode_words(FailureMode mode);
 
+/// What a failure event measured, without its mode or time: "item 7 moved 5.1 cm on the pallet".
+std::string what_moved(const FailureEvent& event);
+
 /// One line for a person: "top_item_slide at 0.412 s: item 7 moved 5.1 cm on the pallet".
 std::string describe(const FailureEvent& event);
 

@@ -41,28 +41,6 @@ RestState capture(const mjModel& m, const mjData& d, const SceneLayout& l, doubl
   return rest;
 }
 
-// What a detector saw move on a still belt, without the detector's name or time.
-std::string what_moved(const FailureEvent& e) {
-  auto item = [&](std::size_t k) {
-    return k < e.items.size() ? "item " + std::to_string(e.items[k]) : std::string("an item");
-  };
-  switch (e.mode) {
-    case FailureMode::tip_over:
-      return "the pallet tilted " + fixed(e.value, 1) + " deg";
-    case FailureMode::top_item_slide:
-      return item(0) + " moved " + fixed(100.0 * e.value, 1) + " cm on the pallet";
-    case FailureMode::load_shift:
-      return item(0) + " and " + item(1) + " moved " + fixed(100.0 * e.value, 1) +
-             " cm relative to each other";
-    case FailureMode::pallet_slip:
-      return "the pallet slid " + fixed(100.0 * e.value, 1) + " cm";
-    case FailureMode::no_failure:
-    case FailureMode::cannot_stand:
-      break;
-  }
-  return "the load moved";
-}
-
 // Why a load that moved (or never came to rest) on a still belt cannot stand, for a supervisor:
 // the lowest item that moved is where the collapse starts; what is above it follows.
 StandFailure stand_failure(const Scene& scene, const mjData& d, const DetectorThresholds& t,
