@@ -223,6 +223,7 @@ AnalyzerOptions analyze_options(const Args& args) {
     }
     search.parallel_probes = int(*k);
   }
+  search.confirm_limits = args.flag("confirm-limits");
   o.fidelity = fidelity_option(args, "analyze");
   return o;
 }
@@ -530,7 +531,7 @@ std::vector<Command> physics_commands() {
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
           "list every probe of each search (axis, value, outcome, mode, failure_time_s, "
-          "sim_time_s, steps, peak_ratio: how near it came to failing, wall_ms) and "
+          "sim_time_s, steps, peak_ratio: how near it came to failing, confirmation, wall_ms) and "
           "speculative_sims (probes run ahead on spare cores and not needed); every file's search "
           "is then run, repeated pallets included"},
          {"fidelity", "LEVEL",
@@ -538,7 +539,12 @@ std::vector<Command> physics_commands() {
                                      "agreement with the full model is established)"},
          {"parallel-probes", "K",
           "probes per search round (k-section, batched on K threads; same limits); 1 = serial "
-          "bisection (default), 0 = one per CPU"}},
+          "bisection (default), 0 = one per CPU"},
+         {"confirm-limits", "",
+          "run each limit found safe once more along another numerical path (the constraint "
+          "solve warm-started differently); where that run fails, the load's fate hangs on "
+          "round-off there and the search goes on below it (probes then list confirmation: "
+          "true; about a third more simulations on unwrapped loads)"}},
         1,
         1000000},
        run_analyze},

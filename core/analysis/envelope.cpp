@@ -585,8 +585,8 @@ class Lookahead {
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
 // With `cores` (k = 1 only), probes run ahead on spare cores (Lookahead).
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
-                        const SimOptions& o, bool seeded, int k, Cores* cores = nullptr,
-                        double speculate_after_ms = 0.0) {
+                        const SimOptions& o, bool seeded, int k, bool confirm,
+                        Cores* cores = nullptr, double speculate_after_ms = 0.0) {
   AxisOutcome out;
   auto unstable_at = [&](double x, const SimResult& r) {
     if (!out.unstable) {
@@ -666,13 +666,41 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (out.unstable) return std::nullopt;
     return verdicts;
   };
-  out.limit = AxisSearch(t.lo, t.hi, t.precision, probe, seeded, batch, k).run(t.seed);
-  if (out.limit) out.limit->closed_form = t.closed_form;
+  // Every verdict of the search's own path, for a search that goes on below a limit that did not
+  // hold along another numerical path (`failing` then holds that limit).
+  std::map<double, ProbeVerdict> seen, failing;
+  auto remembered = [&](double x) -> std::optional<ProbeVerdict> {
+    if (auto it = failing.find(x); it != failing.end()) return it->second;
+    if (auto it = seen.find(x); it != seen.end()) return it->second;
+    auto v = probe(x);
+    if (v) seen[x] = *v;
+    return v;
+  };
+  out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, batch, k).run(t.seed);
   if (ahead) {
     ahead->drain();
     out.ran_ahead = ahead->started();
     out.speculative = ahead->wasted();
+    ahead.reset();  // the confirmation's probes run on the path
   }
+  SimOptions twin = o;
+  twin.extrapolate_warmstart = true;
+  while (confirm && out.limit && !out.limit->at_floor) {
+    const double x = out.limit->limit;
+    const SimResult r = simulator.run(rest, t.profile(x), twin);
+    if (o.progress != nullptr) o.progress->finished();
+    out.probes.push_back(make_probe(t.axis, x, r));
+    out.probes.back().confirmation = true;
+    if (r.outcome == Outcome::unstable) {
+      unstable_at(x, r);
+      out.limit.reset();
+      break;
+    }
+    if (r.outcome != Outcome::failed) break;
+    failing[x] = verdict_of(r);
+    out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded).run(x);
+  }
+  if (out.limit) out.limit->closed_form = t.closed_form;
   return out;
 }
 
@@ -795,7 +823,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   auto search = [&](std::size_t i) {
     const ProbeModel m = model_of(tasks[i].axis);
     AxisOutcome a = search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k,
-                                ahead, s.speculate_after_ms);
+                                s.confirm_limits, ahead, s.speculate_after_ms);
     tell(tasks[i].axis, a);
     return a;
   };
@@ -830,7 +858,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
           outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
-                                    s.seed_with_closed_form, k, ahead, s.speculate_after_ms);
+                                    s.seed_with_closed_form, k, s.confirm_limits, ahead,
+                                    s.speculate_after_ms);
           tell(tasks[i].axis, outcomes[i]);
         } catch (const std::exception& e) {
           outcomes[i] = {};

@@ -78,6 +78,7 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"sim_time_s", p.sim_time_s},
          {"steps", p.steps},
          {"peak_ratio", p.peak_ratio},
+         {"confirmation", p.confirmation},
          {"wall_ms", p.wall_ms}});
   }
   return out;

@@ -201,6 +201,10 @@ std::vector<StudyConfig> study_configs() {
   coarse.search.lateral_precision_g *= 2.0;
   coarse.search.speed_precision_mps *= 2.0;
   out.push_back(make("default-coarse", "the default at twice the search steps", coarse));
+  AnalyzerOptions confirmed;  // the shipped default, each limit run again along another path
+  confirmed.search.confirm_limits = true;
+  out.push_back(make("default-confirmed",
+                     "the default, each limit confirmed along a second numerical path", confirmed));
   return out;
 }
 
@@ -264,6 +268,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   };
   // Only when set, so that the keys of cached reference envelopes (which leave it unset) hold.
   if (o.full_model_timestep_s) j["full_model_timestep_s"] = *o.full_model_timestep_s;
+  if (q.confirm_limits) j["confirm_limits"] = true;
   return fingerprint_json(j);
 }
 

@@ -150,6 +150,10 @@ void ProbeRun::before_step(mjData& d) {
     d.time += skip_n_ * dt_;
     skip_n_ = 0;
   }
+  if (o_.extrapolate_warmstart && qacc_known_ >= 2) {
+    for (std::size_t i = 0; i < qacc1_.size(); ++i)
+      d.qacc_warmstart[i] = 2.0 * qacc1_[i] - qacc2_[i];
+  }
   const double t_next = (k_ + 1) * dt_;
   // A velocity actuator with kv = M/dt reaches its command in one step: command the velocity
   // the belt should have at the end of this step.
@@ -274,6 +278,11 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   const int k = ++k_;
   const double t_next = k * dt_;
   r_.steps = k;
+  if (o_.extrapolate_warmstart) {
+    qacc2_.swap(qacc1_);
+    qacc1_.assign(d.qacc, d.qacc + m.nv);
+    qacc_known_ = std::min(qacc_known_ + 1, 2);
+  }
   r_.sim_time_s = t_next;
   std::optional<std::string> broken;
   if (is_cancelled(o_.cancel) || is_cancelled(o_.abandon)) broken = std::string(kCancelledReason);

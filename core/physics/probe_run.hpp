@@ -107,6 +107,10 @@ class ProbeRun {
   int settled_after_failure_ = 0;  ///< steps the load has moved with the belt since the failure
   double pe0_ = 0.0;
   std::vector<double> vrel_, mv_;
+  // The accelerations of the last two steps (SimOptions::extrapolate_warmstart), and how many of
+  // them are there.
+  std::vector<double> qacc1_, qacc2_;
+  int qacc_known_ = 0;
   // Skipping: the profile's breakpoints, the phase of the last step, the co-moving steps within
   // it, and the pending jump (steps, belt travel, belt velocity change) before_step applies.
   std::vector<double> breakpoints_;

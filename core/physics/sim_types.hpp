@@ -87,6 +87,11 @@ struct SimOptions {
   /// detectors' measures are invariant under that motion. After the last breakpoint the early
   /// stop decides instead (when on).
   bool skip_comoving = true;
+  /// Warm-start each step's constraint solve from the line through the last two steps'
+  /// accelerations instead of the last one's. The solve converges to the same answer up to its
+  /// tolerance, so this is the same probe along another numerical path: where the load's fate
+  /// hangs on round-off, the two can disagree (the limit confirmation runs it; SearchConfig).
+  bool extrapolate_warmstart = false;
   double skip_dwell_s = 0.02;
   /// When set, a probe stops after its current step and ends unstable, its reason starting with
   /// kCancelledReason: no verdict (a search that meets one fails). Not owned.

@@ -376,8 +376,10 @@ class PhysicsCliTest : public QObject {
     QSet<QString> axes;
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
-      // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, wall_ms
-      QCOMPARE(p.size(), 9);
+      // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, confirmation
+      // (false: --confirm-limits not given), wall_ms
+      QCOMPARE(p.size(), 10);
+      QCOMPARE(p.value(QStringLiteral("confirmation")), QJsonValue(false));
       axes.insert(str(p, "axis"));
       const bool failed = str(p, "outcome") == QStringLiteral("failed");
       // How near it came to failing: past every threshold once failed, within them all if safe.

@@ -109,6 +109,30 @@ class ProbeRunTest : public QObject {
              serial.trace.pallet(serial.trace.size() - 1).pos);
   }
 
+  // SimOptions::extrapolate_warmstart: another start for each step's constraint solve, which
+  // converges to the same answer up to its tolerance. On a single carton (no multi-contact
+  // stick-slip to amplify round-off) the outcome, mode and failure time are those of the usual
+  // path, and the carton ends within a micrometre of where it ends there.
+  void anotherWarmStartIsTheSameProbe() {
+    auto r = rig();
+    for (double accel : {1.0, 4.5}) {
+      SimOptions usual, other;
+      other.extrapolate_warmstart = true;
+      const ConveyorProfile profile = accel_probe_profile(accel, {});
+      const SimResult a = r->sim->run(r->rest, profile, usual);
+      const SimResult b = r->sim->run(r->rest, profile, other);
+      QCOMPARE(b.outcome, a.outcome);
+      QCOMPARE(bool(b.failure), bool(a.failure));
+      if (a.failure) {
+        QCOMPARE(b.failure->mode, a.failure->mode);
+        QCOMPARE(b.failure->time_s, a.failure->time_s);
+      }
+      const Vec3 pa = a.trace.items(a.trace.size() - 1)[0].pos;
+      const Vec3 pb = b.trace.items(b.trace.size() - 1)[0].pos;
+      for (std::size_t k = 0; k < 3; ++k) QVERIFY(std::abs(pa[k] - pb[k]) < 1e-6);
+    }
+  }
+
   // Event-driven skipping on every curated scenario (its prepared model: reduced where the
   // automatic choice picks it): a couple of probes per axis give the same outcome and mode as full
   // stepping, the failure time within the dwell plus one step. On the costly full 24-item scenario
