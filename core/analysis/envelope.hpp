@@ -74,9 +74,7 @@ struct SearchConfig {
   /// Each limit a search found safe is run once more along another numerical path (the solve warm
   /// started differently: SimOptions::extrapolate_warmstart); if that run fails, the load's fate
   /// there hangs on round-off, the value counts as failing and the search goes on below it. Off
-  /// by default: on the unwrapped corpus it removed the one limit above the reference at 31 %
-  /// more simulations, and doubled tall-unwrapped-tower's envelope (core/README.md, "Limits that
-  /// hang on round-off").
+  /// by default, for its cost (measured in core/README.md, "Limits that hang on round-off").
   bool confirm_limits = false;
 
   bool operator==(const SearchConfig&) const = default;
