@@ -145,7 +145,7 @@ int run_validate(const Args& args) {
   }
   print_diagnostics(diags);
   if (input) {
-    print_json(validation_report_to_json(input->pallet, diags));
+    print_json(validation_report_to_json(input->pallet, diags, limits.max_items));
   } else {
     print_json({{"valid", false}, {"errors", diagnostics_to_json(errors_of(diags))}});
   }

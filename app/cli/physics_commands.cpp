@@ -108,10 +108,8 @@ bool uses_accel(ProfileShape shape) {
 }
 
 // Until the belt's motion last changes, plus a second for the load to settle into it.
-double default_duration(ConveyorProfile profile) {
-  profile.duration_s = kMaxProfileDuration;
-  const std::vector<double> changes = profile.breakpoints();
-  return std::min(kMaxProfileDuration, (changes.empty() ? 0.0 : changes.back()) + 1.0);
+double default_duration(const ConveyorProfile& profile) {
+  return std::min(kMaxProfileDuration, profile.motion_end_s() + 1.0);
 }
 
 // The profile of the flags, starting from the scenario's suggested profile when neither --speed
@@ -174,10 +172,8 @@ int run_solve(const Args& args) {
   if (!input) return kExitBadInput;
   const ConveyorProfile profile = profile_from(args, input->suggested_profile);
   const Diagnostics problems = validate_profile(profile, "/profile");
-  if (has_errors(problems)) {
-    print_diagnostics(problems);
-    return kExitBadInput;
-  }
+  print_diagnostics(problems);  // errors, and a warning when the run ends mid-motion
+  if (has_errors(problems)) return kExitBadInput;
   std::optional<std::ofstream> replay_file;
   if (auto path = args.text("replay")) replay_file = open_output("solve", *path);
 

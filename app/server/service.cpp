@@ -556,6 +556,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       return json_response(200, solve_response_json(config, s, include_replay, fidelity));
     Json out = sim_result_to_json(s.sim, profile);
     out["fidelity"] = fidelity;
+    out["warnings"] = diagnostics_to_json(warnings_of(run->diagnostics));
     out["replay"] = replay_to_json(s.replay);
     return json_response(200, out);
   };
@@ -655,7 +656,15 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
     auto refusal = pool_.run(*ticket, [&](Analyzer& a) { map = a.failure_map(config, grids); });
     if (refusal) return refusal_response(*refusal, *ticket);
-    if (!*map) return core_failure(map->diagnostics, prefix);
+    if (!*map) {  // the grids are the request's own members; the rest points into the pallet
+      Diagnostics d = map->diagnostics;
+      for (auto& x : d) {
+        const bool grid =
+            x.pointer.starts_with("/speeds_mps") || x.pointer.starts_with("/accels_mps2");
+        if (!grid && !x.pointer.empty()) x.pointer = prefix + x.pointer;
+      }
+      return core_failure(d, "");
+    }
     pool_.count_simulations((*map)->sims);
     Json out = failure_map_to_json(**map);
     out["pallet_id"] = config.pallet_id;

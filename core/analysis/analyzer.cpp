@@ -332,7 +332,7 @@ Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile&
   solve.replay =
       make_replay(solve.sim.trace, config, profile, std::string(to_string(solve.sim.outcome)),
                   solve.sim.failure, replay_hz);
-  return Result<Solve>{std::move(solve), {}};
+  return Result<Solve>{std::move(solve), std::move(problems)};
 }
 
 }  // namespace pb

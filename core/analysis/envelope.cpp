@@ -993,13 +993,15 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     std::ostringstream why;
     const std::string governed = (r.speed_governed_by == SpeedGovernor::ceiling ? "" : "set by ") +
                                  std::string(governor_words(r.speed_governed_by));
-    why << "Start-up to " << fixed(s.speed_max_mps, 1) << " m/s at up to "
-        << fixed(r.max_accel_mps2, 1) << " m/s^2"
-        << (env.accel.at_ceiling ? " (the top of the range)"
-                                 : " (above it, " + std::string(mode_words(r.accel_mode)) + ")")
-        << "; stops from " << fixed(s.speed_max_mps, 1) << " m/s at up to "
-        << fixed(r.max_decel_mps2, 1) << " m/s^2; curves up to " << fixed(r.max_lateral_g, 2)
-        << " g. Speed " << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
+    // The accelerations were measured on start-ups to, and stops from, the top of the speed
+    // range (the probes); the speed limit is the line's, after them.
+    why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2"
+        << (env.accel.at_ceiling ? " (the top of the range"
+                                 : " (above it, " + std::string(mode_words(r.accel_mode)))
+        << "; measured ramping to " << fixed(s.speed_max_mps, 1) << " m/s); stops at up to "
+        << fixed(r.max_decel_mps2, 1) << " m/s^2 (from " << fixed(s.speed_max_mps, 1)
+        << " m/s); curves up to " << fixed(r.max_lateral_g, 2) << " g. Top speed "
+        << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
         << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
         << " m curves).";
     r.reason = why.str();

@@ -13,8 +13,10 @@ Json diagnostics_to_json(const Diagnostics& diagnostics) {
   return out;
 }
 
-Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics) {
-  const auto support = support_fractions(config);
+Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics,
+                               std::size_t max_items) {
+  const bool counted = config.items.size() <= max_items;
+  const auto support = counted ? support_fractions(config) : std::vector<double>{};
   Json j;
   j["valid"] = !has_errors(diagnostics);
   j["errors"] = diagnostics_to_json(errors_of(diagnostics));
@@ -26,7 +28,8 @@ Json validation_report_to_json(const PalletConfig& config, const Diagnostics& di
   j["stack_height_m"] = stack_height_m(config);
   j["overhang_m"] = overhang_m(config);
   j["min_support_fraction"] =
-      support.empty() ? 1.0 : *std::min_element(support.begin(), support.end());
+      !counted ? Json(nullptr)
+               : Json(support.empty() ? 1.0 : *std::min_element(support.begin(), support.end()));
   return j;
 }
 

@@ -4,6 +4,7 @@
 // own types (pallet, profile, SafetyResult, replay) are written by json_io.hpp and replay.hpp.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "core/contract/conveyor_profile.hpp"
 #include "core/contract/json_io.hpp"
 #include "core/contract/pallet_config.hpp"
+#include "core/inputs/validation.hpp"
 #include "core/physics/detectors.hpp"
 #include "core/physics/simulate.hpp"
 
@@ -23,8 +25,10 @@ Json diagnostics_to_json(const Diagnostics& diagnostics);
 
 /// Validation of one pallet with the recomputed summary a supervisor checks first: "valid",
 /// "errors", "warnings", "pallet_id", "items", "total_mass_kg", "composite_com_m",
-/// "stack_height_m", "overhang_m", "min_support_fraction".
-Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics);
+/// "stack_height_m", "overhang_m", "min_support_fraction". The last compares items pairwise: for
+/// a pallet over `max_items` (which validation refused before any other check) it is null.
+Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics,
+                               std::size_t max_items = ValidationLimits{}.max_items);
 
 /// null, or {"mode", "time_s", "value", "items", "description"}.
 Json failure_event_to_json(const std::optional<FailureEvent>& failure);

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <string>
 
+#include "core/base/text.hpp"
+
 namespace pb {
 
 namespace {
@@ -64,32 +66,41 @@ double ConveyorProfile::lateral_velocity_at(double t) const {
   return lateral_accel_mps2() * s;
 }
 
-std::vector<double> ConveyorProfile::breakpoints() const {
-  std::vector<double> out;
-  const double ramp_up = target_speed_mps / std::max(accel_mps2, 1e-9);
-  switch (shape) {
+namespace {
+
+// Every time the commanded acceleration changes, whether or not the run reaches it.
+std::vector<double> changes(const ConveyorProfile& p) {
+  const double ramp_up = p.target_speed_mps / std::max(p.accel_mps2, 1e-9);
+  switch (p.shape) {
     case ProfileShape::accel_hold:
-      out = {ramp_up};
-      break;
+      return {ramp_up};
     case ProfileShape::constant:
-      break;
-    case ProfileShape::ramp_decel: {
-      const double stop = decel_start_s + ramp_up;
+      return {};
+    case ProfileShape::ramp_decel:
       // A decel that starts before the ramp ends meets it halfway: the belt peaks there.
-      out = decel_start_s >= ramp_up ? std::vector<double>{ramp_up, decel_start_s, stop}
-                                     : std::vector<double>{0.5 * (ramp_up + decel_start_s), stop};
-      break;
-    }
+      return p.decel_start_s >= ramp_up
+                 ? std::vector<double>{ramp_up, p.decel_start_s, p.decel_start_s + ramp_up}
+                 : std::vector<double>{0.5 * (ramp_up + p.decel_start_s),
+                                       p.decel_start_s + ramp_up};
     case ProfileShape::estop:
-      out = {decel_start_s, decel_start_s + target_speed_mps / std::max(decel_mps2, 1e-9)};
-      break;
+      return {p.decel_start_s, p.decel_start_s + p.target_speed_mps / std::max(p.decel_mps2, 1e-9)};
     case ProfileShape::curve:
-      out = {curve_start_s, curve_start_s + curve_duration(*this)};
-      break;
+      return {p.curve_start_s, p.curve_start_s + curve_duration(p)};
     case ProfileShape::eumos:
-      out = {kEumosRise, kEumosRise + eumos_hold_s};
-      break;
+      return {kEumosRise, kEumosRise + p.eumos_hold_s};
   }
+  return {};
+}
+
+}  // namespace
+
+double ConveyorProfile::motion_end_s() const {
+  const std::vector<double> all = changes(*this);
+  return all.empty() ? 0.0 : std::max(0.0, *std::max_element(all.begin(), all.end()));
+}
+
+std::vector<double> ConveyorProfile::breakpoints() const {
+  std::vector<double> out = changes(*this);
   std::erase_if(out, [&](double b) { return !(b > 0.0 && b < duration_s); });
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -127,6 +138,14 @@ Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix
               "s");
   check_range(out, prefix + "/eumos_g", "eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
   check_range(out, prefix + "/eumos_hold_s", "eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
+  if (!has_errors(out) && p.motion_end_s() >= p.duration_s) {
+    out.push_back({prefix + "/duration_s",
+                   "the belt is still changing its motion when the run ends at " +
+                       fixed(p.duration_s, 2) + " s (its last change is at " +
+                       fixed(p.motion_end_s(), 2) +
+                       " s), so what follows is not simulated; make duration_s longer than that",
+                   Severity::warning});
+  }
   return out;
 }
 

@@ -46,6 +46,9 @@ struct ConveyorProfile {
   /// Times in (0, duration_s) where the commanded acceleration changes, sorted: between two of
   /// them (and after the last) the belt's acceleration is constant.
   std::vector<double> breakpoints() const;
+  /// When the commanded acceleration last changes, within the run or after it (0 if never): a run
+  /// that ends before it ends with the belt still changing its motion.
+  double motion_end_s() const;
   /// Lateral acceleration of a curve (v^2 / r), 0 for other shapes.
   double lateral_accel_mps2() const;
 

@@ -102,6 +102,12 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   n_steps_ = static_cast<int>(std::ceil(profile_.duration_s / dt_ - 1e-9));
   const auto breakpoints = profile_.breakpoints();
   last_breakpoint_ = breakpoints.empty() ? 0.0 : breakpoints.back();
+  // Deciding early (co-moving, or below every barrier) rests on the belt's frame being inertial
+  // after the last breakpoint. A run that ends with the belt still changing speed (its profile's
+  // motion goes on past duration_s) has no such phase: it is stepped to its end.
+  const double after = last_breakpoint_ + dt_, end = profile_.duration_s;
+  stops_early_ = o_.early_stop && profile_.velocity_at(after) == profile_.velocity_at(end) &&
+                 profile_.lateral_velocity_at(after) == profile_.lateral_velocity_at(end);
   belt_x0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
   belt_y0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
   if (auto problem = numerical_limits_problem(scene)) {
@@ -170,7 +176,7 @@ int ProbeRun::plan_skip() const {
     // The step ending at or before the breakpoint is the phase's last: step it, and the one
     // crossing the breakpoint.
     last = std::min(last, static_cast<int>(std::floor(breakpoints_[phase_] / dt_ + 1e-9)) - 1);
-  } else if (o_.early_stop) {
+  } else if (stops_early_) {
     return 0;  // after the last breakpoint the early stop decides
   }
   const int n = last - k_;
@@ -334,7 +340,7 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
   if (phase != phase_) dwell_steps_ = 0;
   phase_ = phase;
-  const bool want_stop = o_.early_stop && !r_.failure && t_next >= last_breakpoint_;
+  const bool want_stop = stops_early_ && !r_.failure && t_next >= last_breakpoint_;
   const bool want_skip = o_.skip_comoving && !r_.failure && k < n_steps_;
   bool comoving = false;
   if (want_stop || want_skip) {

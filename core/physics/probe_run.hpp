@@ -99,6 +99,7 @@ class ProbeRun {
   FailureDetector detector_;
   BeltWatch belt_watch_;
   double v0_ = 0.0, dt_ = 0.0, last_breakpoint_ = 0.0;
+  bool stops_early_ = false;  ///< SimOptions::early_stop, where the run ends on an inertial belt
   double belt_x0_ = 0.0, belt_y0_ = 0.0, fall_through_z_ = 0.0;
   double command_x_ = 0.0, command_y_ = 0.0;
   int n_steps_ = 0, k_ = 0, comove_needed_ = 1, comove_steps_ = 0;

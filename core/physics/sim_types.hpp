@@ -73,7 +73,9 @@ struct SimOptions {
   /// least 0.25 s) or this long after the failure; an instability meanwhile ends the run and keeps
   /// the verdict (SimResult::aftermath_cut says why). 0: to the profile's end, as before.
   double follow_failure_s = 0.0;
-  bool early_stop = true;  ///< stop once the load co-moves with the belt after the last breakpoint
+  /// Stop once the load co-moves with the belt after the last breakpoint (only where the belt then
+  /// moves at constant velocity: a run that ends mid-ramp or mid-curve is stepped to its end).
+  bool early_stop = true;
   double comove_speed_mps = 0.001;  ///< co-moving: every body within this of the belt's velocity
   double comove_spin_radps = 0.01;
   bool record_trace = true;  ///< keep every step's poses (replays, plots); off for searches

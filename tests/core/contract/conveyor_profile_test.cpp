@@ -202,11 +202,39 @@ class ConveyorProfileTest : public QObject {
     for (const Case& c : cases) {
       ConveyorProfile p;
       c.change(p);
-      const Diagnostics d = validate_profile(p);
+      const Diagnostics d = errors_of(validate_profile(p));  // warnings: motionEndingAfterTheRun
       const QStringList expected = c.pointer ? QStringList{c.pointer} : QStringList{};
       QVERIFY2(pointers(d) == expected, c.name);
       for (const auto& diagnostic : d) QCOMPARE(diagnostic.severity, Severity::error);
     }
+  }
+
+  // A run that ends while the belt is still changing its motion (a ramp, a stop or a curve that
+  // goes on past duration_s) is warned about at /duration_s; motion_end_s says when it ends.
+  void motionEndingAfterTheRun() {
+    ConveyorProfile ramp;  // accel_hold
+    ramp.target_speed_mps = 2.0;
+    ramp.accel_mps2 = 0.3;  // reaches 2 m/s at 6.67 s
+    ramp.duration_s = 5.0;
+    QCOMPARE(ramp.motion_end_s(), 2.0 / 0.3);
+    QVERIFY(ramp.breakpoints().empty());
+    Diagnostics d = validate_profile(ramp);
+    QCOMPARE(d.size(), std::size_t(1));
+    QCOMPARE(d[0].severity, Severity::warning);
+    QCOMPARE(d[0].pointer, std::string("/duration_s"));
+    ramp.duration_s = 7.0;
+    QVERIFY(validate_profile(ramp).empty());
+    ConveyorProfile curve;
+    curve.shape = ProfileShape::curve;
+    curve.target_speed_mps = 1.5;
+    curve.curve_radius_m = 0.5;
+    curve.curve_angle_deg = 300.0;  // 1.75 s of arc from 0.1 s
+    curve.curve_start_s = 0.1;
+    curve.duration_s = 1.5;
+    QVERIFY(std::abs(curve.motion_end_s() - (0.1 + 0.5 * 300.0 * std::numbers::pi / 180.0 / 1.5)) <
+            1e-12);
+    QCOMPARE(warnings_of(validate_profile(curve)).size(), std::size_t(1));
+    QCOMPARE(ConveyorProfile{}.motion_end_s() < ConveyorProfile{}.duration_s, true);
   }
 
   void validatePrefixesPointers() {

@@ -133,6 +133,26 @@ class ProbeRunTest : public QObject {
     }
   }
 
+  // A run whose profile goes on past its end (here a curve whose arc outlasts duration_s) never
+  // stops early: after its last breakpoint the belt is still accelerating, so neither co-moving
+  // nor the energy barrier says that nothing can change. It is stepped to its end.
+  void aRunEndingMidCurveIsSteppedToItsEnd() {
+    auto r = rig();
+    ConveyorProfile curve;
+    curve.shape = ProfileShape::curve;
+    curve.target_speed_mps = 1.0;
+    curve.curve_radius_m = 3.0;    // 1 m/s: 0.34 m/s^2 sideways, which the carton holds
+    curve.curve_angle_deg = 90.0;  // 4.7 s of arc
+    curve.curve_start_s = 0.1;
+    curve.duration_s = 1.0;
+    const SimResult run = r->sim->run(r->rest, curve, SimOptions{});
+    QCOMPARE(run.outcome, Outcome::safe);
+    QVERIFY(!run.stopped_early);
+    QVERIFY(std::abs(run.sim_time_s - curve.duration_s) < 1e-9);
+    curve.duration_s = 6.0;  // the arc ends within the run: the early stop may end it
+    QVERIFY(r->sim->run(r->rest, curve, SimOptions{}).stopped_early);
+  }
+
   // Event-driven skipping on every curated scenario (its prepared model: reduced where the
   // automatic choice picks it): a couple of probes per axis give the same outcome and mode as full
   // stepping, the failure time within the dwell plus one step. On the costly full 24-item scenario
