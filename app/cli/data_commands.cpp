@@ -282,7 +282,9 @@ std::vector<Command> data_commands() {
          {"anomaly-rate", "R", "probability of a lean/overhang anomaly, 0..1 (default 0.08)"},
          {"min-layers", "A", "fewest layers (default 3)"},
          {"max-layers", "B", "most layers (default 7)"},
-         {"min-items", "A", "fewest items per layer (default 4)"},
+         {"min-items", "A",
+          "fewest items per layer (default 4; a column pallet, drawn for about one seed in five, "
+          "is a tower of at most 2 a layer whatever this asks)"},
          {"max-items", "B", "most items per layer (default 10)"},
          {"wrap", "W",
           "none, shrink, stretch, banded, or mixed (drawn per pallet; default stretch)"}},
