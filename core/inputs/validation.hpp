@@ -33,6 +33,11 @@ struct ValidationLimits {
   /// to the height cap is about 300; the engine's own limit (scene.hpp: kMaxSimulationBytes) is
   /// usually lower and is named when a scene is built.
   std::size_t max_items = 400;
+  /// An item's weight over its box's volume, in kg/m^3: denser than lead (11,340) or lighter than
+  /// 1 kg/m^3 (an empty carton is about 5) is a unit slip in weight_kg or dims_m, and a physics
+  /// the engine would simulate with mass ratios it cannot hold.
+  double min_density_kg_m3 = 1.0;
+  double max_density_kg_m3 = 11340.0;
   bool require_known_skus = false;  ///< every item's SKU must be in the catalog
 };
 

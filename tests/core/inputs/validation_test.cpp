@@ -339,10 +339,29 @@ class ValidationTest : public QObject {
     QCOMPARE(found[1].pointer, std::string("/items/2/position"));
   }
 
+  // An item denser than lead or lighter than 1 kg/m^3 is a unit slip: an error at its weight that
+  // names the density and what to check. A dairy case (10 kg, 12 litres) is fine.
+  void impossibleDensityIsRefused() {
+    PalletConfig config = valid();
+    QVERIFY(!has_errors(validate(config)));
+    config.items[0].weight_kg = 400.0;
+    Diagnostics errors = errors_of(validate(config));
+    QVERIFY(!errors.empty());
+    QCOMPARE(errors[0].pointer, std::string("/items/0/weight_kg"));
+    QVERIFY2(contains(errors[0].message, "denser than lead"), errors[0].message.c_str());
+    config.items[0].weight_kg = 1e-6;
+    errors = errors_of(validate(config));
+    QVERIFY(!errors.empty());
+    QVERIFY2(contains(errors[0].message, "lighter than air"), errors[0].message.c_str());
+  }
+
   void grossMassAboveTheCap() {
     PalletConfig config = valid();
     for (Item& item : config.items) item.weight_kg = 400.0;  // 1225 kg with the base
-    const Diagnostics errors = errors_of(validate(config));
+    ValidationLimits limits;
+    limits.max_density_kg_m3 =
+        1e9;  // 400 kg in these boxes is denser than lead: the mass cap alone
+    const Diagnostics errors = errors_of(validate(config, limits));
     QCOMPARE(errors.size(), std::size_t{1});
     QCOMPARE(errors[0].pointer, std::string("/items"));
     QVERIFY2(contains(errors[0].message, "1225.0 kg, above the 1200.0 kg"),
@@ -355,6 +374,7 @@ class ValidationTest : public QObject {
     for (Item& item : config.items) item.weight_kg = 400.0;
     ValidationLimits limits;
     limits.max_gross_mass_kg = 5000.0;
+    limits.max_density_kg_m3 = 1e9;  // the rating alone (these boxes are too small for 400 kg)
     QVERIFY(!has_errors(validate(config, limits)));  // 1225 kg
     config.items[0].weight_kg = 450.0;               // 1275 kg
     const Diagnostics errors = errors_of(validate(config, limits));
