@@ -29,8 +29,7 @@ Result<PalletSource> curated_pallet(const std::string& arg) {
 }  // namespace
 
 const Json& pallet_member(const Json& document, std::string& prefix) {
-  const bool member =
-      document.is_object() && document.contains("pallet") && document["pallet"].is_object();
+  const bool member = document.is_object() && document.contains("pallet");
   prefix = member ? "/pallet" : "";
   return member ? document["pallet"] : document;
 }

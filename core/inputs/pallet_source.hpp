@@ -22,9 +22,9 @@ struct PalletSource {
   std::string scenario_name;                         ///< a scenario's "name", when it has one
 };
 
-/// Where a document holds its pallet: under "pallet" when that member is an object (a scenario
-/// file; the service's requests, beside their other members), else the document itself. `prefix`
-/// is set to its JSON pointer ("/pallet" or "").
+/// Where a document holds its pallet: under "pallet" when it has that member (a scenario file; the
+/// service's requests, beside their other members; a PalletConfig has no such key), else the
+/// document itself. `prefix` is set to its JSON pointer ("/pallet" or "").
 const Json& pallet_member(const Json& document, std::string& prefix);
 
 /// A parsed document: a PalletConfig, or a scenario file holding one under "pallet".
