@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/lab/lab_commands.hpp"
+#include "core/inputs/pallet_source.hpp"
 #include "core/lab/batch_study.hpp"
 
 namespace pb::cli {
@@ -79,8 +80,8 @@ Json entry_json(const StudyEntry& e) {
 
 // A study written by `batch --out`, read back; an error names the file and what is wrong.
 Result<Json> read_study(const std::string& path) {
-  auto text = read_input(path);
-  if (!text) return Result<Json>::failure("", "cannot read '" + path + "'");
+  auto text = read_document_text(path);  // the error is ours, under the lab's name
+  if (!text) return Result<Json>::failure("", "cannot open '" + path + "'; check the path");
   auto json = parse_json(*text);
   if (!json) return Result<Json>::failure("", path + ": " + to_string(json.diagnostics[0]));
   if (!json->is_object() || !(*json)["pallets"].is_array()) {
