@@ -72,9 +72,7 @@ Args::Args(const VerbSpec& spec, const std::vector<std::string>& argv) : spec_(s
         last.starts_with("--") ? find_option(spec, long_name(last)) : nullptr;
     if (option == nullptr) fail(spec, "cannot read the arguments");
     fail(spec, "--" + option->name + " needs a value " + option->value_name);
-  } catch (const CLI::Error& e) {
-    fail(spec, std::string("cannot read the arguments: ") + e.what());
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // CLI::Error is one
     fail(spec, std::string("cannot read the arguments: ") + e.what());
   }
   if (help->count() > 0) {

@@ -666,15 +666,13 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (out.unstable) return std::nullopt;
     return verdicts;
   };
-  // Every verdict of the search's own path, for a search that goes on below a limit that did not
-  // hold along another numerical path (`failing` then holds that limit).
-  std::map<double, ProbeVerdict> seen, failing;
+  // The path's verdicts (`known`), for a search that goes on below a limit that did not hold
+  // along another numerical path (`failing` then holds that limit).
+  std::map<double, ProbeVerdict> failing;
   auto remembered = [&](double x) -> std::optional<ProbeVerdict> {
     if (auto it = failing.find(x); it != failing.end()) return it->second;
-    if (auto it = seen.find(x); it != seen.end()) return it->second;
-    auto v = probe(x);
-    if (v) seen[x] = *v;
-    return v;
+    if (auto it = known.find(x); it != known.end()) return it->second;
+    return probe(x);
   };
   out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, batch, k).run(t.seed);
   if (ahead) {

@@ -138,11 +138,10 @@ Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix
               "s");
   check_range(out, prefix + "/eumos_g", "eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
   check_range(out, prefix + "/eumos_hold_s", "eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
-  if (!has_errors(out) && p.motion_end_s() >= p.duration_s) {
+  if (const double end = p.motion_end_s(); !has_errors(out) && end >= p.duration_s) {
     out.push_back({prefix + "/duration_s",
                    "the belt is still changing its motion when the run ends at " +
-                       fixed(p.duration_s, 2) + " s (its last change is at " +
-                       fixed(p.motion_end_s(), 2) +
+                       fixed(p.duration_s, 2) + " s (its last change is at " + fixed(end, 2) +
                        " s), so what follows is not simulated; make duration_s longer than that",
                    Severity::warning});
   }

@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -113,13 +111,6 @@ bool check_base(Checker& c, const PalletConfig& config) {
   return base_ok;
 }
 
-// Three significant digits: a density spans ten orders of magnitude.
-std::string sig3(double v) {
-  std::ostringstream out;
-  out << std::setprecision(3) << v;
-  return out.str();
-}
-
 // Per-item syntax and range rules. Returns whether the item's numbers are usable for the
 // physical rules.
 bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
@@ -145,9 +136,9 @@ bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
     const ValidationLimits& l = c.limits();
     if (!(density >= l.min_density_kg_m3 && density <= l.max_density_kg_m3)) {
       c.error(p + "/weight_kg",
-              sig3(item.weight_kg) + " kg in a " + sig3(item.dims_m[0]) + " x " +
-                  sig3(item.dims_m[1]) + " x " + sig3(item.dims_m[2]) + " m box is a density of " +
-                  sig3(density) + " kg/m^3, " +
+              short_number(item.weight_kg) + " kg in a " + short_number(item.dims_m[0]) + " x " +
+                  short_number(item.dims_m[1]) + " x " + short_number(item.dims_m[2]) +
+                  " m box is a density of " + short_number(density) + " kg/m^3, " +
                   (density > l.max_density_kg_m3 ? "denser than lead" : "lighter than air") +
                   "; check weight_kg (kilograms) and dims_m (metres)");
       ok = false;
