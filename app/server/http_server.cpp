@@ -148,12 +148,15 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
             "to 8192 bytes; send JSON with the header content-type: application/json";
       }
     }
-    nlohmann::json body = {{"detail", detail}, {"errors", nlohmann::json::array()}};
+    nlohmann::json body = {{"detail", detail},
+                           {"errors", {{{"pointer", ""}, {"message", detail}}}}};
     res.set_content(body.dump(), "application/json");  // ASCII only
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     res.status = 500;
-    res.set_content(R"({"detail":"internal error","errors":[]})", "application/json");
+    res.set_content(
+        R"({"detail":"internal error","errors":[{"pointer":"","message":"internal error"}]})",
+        "application/json");
   });
   port_ = options.port;
   host_ = options.host;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "app/server/service.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <exception>
@@ -14,6 +15,7 @@
 #include "core/analysis/uncertainty.hpp"
 #include "core/base/text.hpp"
 #include "core/contract/json_io.hpp"
+#include "core/contract/json_reader.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/friction.hpp"
 #include "core/inputs/pallet_source.hpp"
@@ -39,8 +41,11 @@ Response json_response(int status, const Json& body) {
 
 /// {"detail": sentence, "errors": [{"pointer", "message"}]}: "detail" as the reference's
 /// (FastAPI's) clients read it, "errors" as ours (the CLI's pointers and sentences).
+/// "errors" is never empty: a refusal with no member to point at carries its sentence there too
+/// (pointer "", the whole request), so a client that reads only "errors" still learns why.
 Response error_response(int status, const std::string& detail, const Diagnostics& errors = {}) {
-  return json_response(status, {{"detail", detail}, {"errors", diagnostics_to_json(errors)}});
+  const Diagnostics listed = errors.empty() ? Diagnostics{{"", detail, Severity::error}} : errors;
+  return json_response(status, {{"detail", detail}, {"errors", diagnostics_to_json(listed)}});
 }
 
 Response diagnostics_response(int status, const Diagnostics& diagnostics) {
@@ -139,6 +144,37 @@ std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
   }
   if (has_errors(diags)) return diagnostics_response(422, diags);
   return Result<PalletConfig>{std::move(*pallet.value), std::move(diags)};
+}
+
+/// A /v1/ request that wraps its pallet ({"pallet": ..., ...}) may hold only the members its route
+/// reads: one misspelt ("samples" as "sample") or not taken per request (the line is the
+/// service's own, from its flags) would otherwise be ignored and the answer computed without it.
+/// 422 with an error at each such member. The reference API's routes ignore extra members, as
+/// its clients expect.
+std::optional<Response> unknown_members(const Json& body,
+                                        std::initializer_list<std::string_view> known) {
+  if (!body.is_object() || !body.contains("pallet")) return std::nullopt;
+  std::string reads;
+  for (std::size_t i = 0; i < known.size(); ++i) {
+    reads += std::string(i == 0                  ? ""
+                         : i + 1 == known.size() ? " and "
+                                                 : ", ") +
+             "'" + std::string(known.begin()[i]) + "'";
+  }
+  Diagnostics errors;
+  for (const auto& [key, value] : body.items()) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string message = "unknown member '" + key + "'; this route reads " + reads +
+                          ": remove it or fix its spelling";
+    if (key == "line") {
+      message =
+          "the line is this service's own (its --estop-decel and --curve-radius; every "
+          "analysis says it under 'line'), not a member of a request: remove 'line'";
+    }
+    errors.push_back({member_pointer("", key), std::move(message), Severity::error});
+  }
+  if (errors.empty()) return std::nullopt;
+  return diagnostics_response(422, errors);
 }
 
 /// A number from a JSON member (absent: `fallback`), in [lo, hi]; an error naming the member.
@@ -453,6 +489,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   post("/v1/validate", [max_items](const Request& request, const Params&) {
     auto body = parse_body(request);
     if (holds_response(body)) return std::get<Response>(body);
+    if (auto refused = unknown_members(std::get<Json>(body), {"pallet"})) return *refused;
     std::string prefix;
     const Json& pj = pallet_member(std::get<Json>(body), prefix);
     auto pallet = read_pallet(pj, prefix, max_items);
@@ -501,6 +538,12 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                             "the body must be {\"pallet\": PalletConfig, \"profile\": "
                             "ConveyorProfile, ...}",
                             {{"/pallet", "is required", Severity::error}});
+    }
+    if (!reference) {
+      if (auto refused =
+              unknown_members(body, {"pallet", "profile", "thresholds", "hz", "include_replay"})) {
+        return *refused;
+      }
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
     if (holds_response(pallet)) return std::get<Response>(pallet);
@@ -609,8 +652,11 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   });
 
   // -- ours --
-  post("/v1/analyze", [this, analysed](const Request& request, const Params&) {
-    auto result = analysed(request, {});
+  const Check only_pallet = [](const Json& body, bool) {
+    return unknown_members(body, {"pallet"});
+  };
+  post("/v1/analyze", [this, analysed, only_pallet](const Request& request, const Params&) {
+    auto result = analysed(request, only_pallet);
     if (auto* r = std::get_if<Response>(&result)) return *r;
     const Analysed& a = std::get<Analysed>(result);
     const Envelope& env = a.analysis.cached->envelope;
@@ -627,8 +673,8 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     out["line"] = line_to_json(pool_.options().analyzer.line, pool_.options().analyzer.search);
     return json_response(200, out);
   });
-  post("/v1/explain", [analysed](const Request& request, const Params&) {
-    auto a = analysed(request, {});
+  post("/v1/explain", [analysed, only_pallet](const Request& request, const Params&) {
+    auto a = analysed(request, only_pallet);
     if (auto* r = std::get_if<Response>(&a)) return *r;
     return json_response(200, explain_json(std::get<Analysed>(a).analysis.cached->envelope.result));
   });
@@ -636,6 +682,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
+    if (auto refused = unknown_members(body, {"pallet", "speeds_mps", "accels_mps2"})) {
+      return *refused;
+    }
     std::string prefix;
     auto pallet = read_pallet(pallet_member(body, prefix), prefix, max_items);
     if (holds_response(pallet)) return std::get<Response>(pallet);
@@ -678,6 +727,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       return error_response(422,
                             "the body must be {\"pallet\": PalletConfig, \"profile\": "
                             "ConveyorProfile, \"samples\"?: M, \"seed\"?: S}");
+    }
+    if (auto refused = unknown_members(body, {"pallet", "profile", "samples", "seed"})) {
+      return *refused;
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
     if (holds_response(pallet)) return std::get<Response>(pallet);
@@ -732,6 +784,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     double hz = 30.0;
     auto check = [&](const Json& body, bool wrapped) -> std::optional<Response> {
       if (!wrapped) return std::nullopt;  // a bare pallet: every default
+      if (auto refused = unknown_members(body, {"pallet", "axis", "hz"})) return refused;
       if (body.contains("axis")) {
         const Json& a = body["axis"];
         for (Axis axis : {Axis::accel, Axis::decel, Axis::lateral, Axis::speed}) {

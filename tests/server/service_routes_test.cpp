@@ -291,6 +291,50 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
   }
 
+  // Whatever refuses a request, "errors" says why: a client reading only it never finds [].
+  void every_refusal_lists_its_error() {
+    std::vector<httplib::Result> refusals;
+    refusals.push_back(client_->Get("/no/such/route"));
+    refusals.push_back(client_->Get("/v1/analyze"));
+    refusals.push_back(client_->Get("/friction?temp_c=hot"));
+    refusals.push_back(client_->Get("/catalog/skus/NOPE"));
+    refusals.push_back(client_->Post("/safety/analyze", std::string(300000, ' '), kJson));
+    for (const auto& res : refusals) {
+      QVERIFY(res && res->status >= 400);
+      const Json body = body_of(res);
+      QVERIFY2(!body["errors"].empty(), res->body.c_str());
+      QCOMPARE(body["errors"][0]["message"], body["detail"]);
+    }
+  }
+
+  // A /v1/ request wrapping its pallet names only the members its route reads: a misspelt one,
+  // or a line (the service's own), would otherwise be ignored and the answer computed without it.
+  void unknown_members_of_a_v1_request_are_refused() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    auto typo = client_->Post(
+        "/v1/uncertainty",
+        R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "sample": 4, "pallet": )" +
+            pallet + "}",
+        kJson);
+    QCOMPARE(typo->status, 422);
+    QCOMPARE(body_of(typo)["errors"][0]["pointer"], "/sample");
+    QVERIFY(body_of(typo)["detail"].get<std::string>().find("'samples'") != std::string::npos);
+    auto line = client_->Post(
+        "/v1/analyze", R"({"line": {"estop_decel_mps2": 4}, "pallet": )" + pallet + "}", kJson);
+    QCOMPARE(line->status, 422);
+    QCOMPARE(body_of(line)["errors"][0]["pointer"], "/line");
+    QVERIFY(body_of(line)["detail"].get<std::string>().find("--estop-decel") != std::string::npos);
+    for (const char* route :
+         {"/v1/explain", "/v1/validate", "/v1/map", "/v1/replay", "/v1/solve"}) {
+      auto res = client_->Post(route, R"({"bogus": 1, "pallet": )" + pallet + "}", kJson);
+      QCOMPARE(res->status, 422);
+      QCOMPARE(body_of(res)["errors"][0]["pointer"], "/bogus");
+    }
+    // The reference API's routes ignore extra members, as its clients expect.
+    QCOMPARE(client_->Post("/solve", R"({"bogus": 1, "pallet": )" + pallet + "}", kJson)->status,
+             200);
+  }
+
   void cors_follows_the_allowlist() {
     httplib::Headers allowed{{"Origin", "https://boothe.io"}};
     auto yes = client_->Get("/healthz", allowed);
