@@ -9,6 +9,7 @@
 
 #include "app/cli/commands.hpp"
 #include "core/analysis/result_json.hpp"
+#include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/friction.hpp"
@@ -198,6 +199,14 @@ int run_friction(const Args& args) {
   const double t1 = args.number("to").value_or(30.0);
   const double step = args.number("step").value_or(1.0);
   const double since = args.number("since").value_or(3600.0);
+  // The range a pallet's body_temp_c may take (validation) and the service's friction routes.
+  for (const auto& [flag, t] : {std::pair{"from", t0}, std::pair{"to", t1}}) {
+    if (!(t >= kMinTempC && t <= kMaxTempC)) {
+      throw UsageError{std::string("friction: --") + flag + " is " + short_number(t) +
+                       "; the friction tables cover " + short_number(kMinTempC) + " to " +
+                       short_number(kMaxTempC) + " C"};
+    }
+  }
   if (t1 < t0) throw UsageError{"friction: --to must not be below --from"};
   if (step <= 0.0 || (t1 - t0) / step > 100000.0) {
     throw UsageError{"friction: --step must be positive and give at most 100000 samples"};

@@ -112,40 +112,68 @@ double default_duration(const ConveyorProfile& profile) {
   return std::min(kMaxProfileDuration, profile.motion_end_s() + 1.0);
 }
 
-// The profile of the flags, starting from the scenario's suggested profile when neither --speed
-// nor --accel is given. Ranges are checked by validate_profile, not here.
+// The flags that set a profile's fields, and the fields they set.
+constexpr std::pair<const char*, const char*> kProfileFlags[] = {
+    {"speed", "target_speed_mps"},    {"accel", "accel_mps2"},      {"decel", "decel_mps2"},
+    {"decel-start", "decel_start_s"}, {"radius", "curve_radius_m"}, {"angle", "curve_angle_deg"},
+    {"eumos-g", "eumos_g"},           {"duration", "duration_s"}};
+
+// The profile of the flags. A scenario's suggested profile is the base unless --profile names
+// another shape, and every flag given overrides its field (so `solve SCENARIO --speed 2` runs the
+// suggested motion at 2 m/s). Without a base --speed is required, and --accel for the shapes that
+// use it. A changed motion runs until it ends plus a second, unless --duration says otherwise.
+// Ranges are checked by validate_profile, not here.
 ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfile>& suggested) {
-  const bool use_suggested = suggested && !args.text("speed") && !args.text("accel");
-  ConveyorProfile p = use_suggested ? *suggested : ConveyorProfile{};
+  std::optional<ProfileShape> shape;
   if (auto name = args.text("profile")) {
-    auto shape = enum_from_string<ProfileShape>(*name);
+    shape = enum_from_string<ProfileShape>(*name);
     if (!shape) throw UsageError{"solve: --profile must be " + enum_choices<ProfileShape>()};
-    p.shape = *shape;
   }
-  if (!use_suggested) {
-    const auto speed = args.number("speed");
-    const auto accel = args.number("accel");
-    if (!speed) {
-      throw UsageError{"solve: --speed is required (only a scenario brings a suggested profile)"};
-    }
-    if (!accel && uses_accel(p.shape)) {
-      throw UsageError{"solve: --accel is required for the " + std::string(to_string(p.shape)) +
-                       " profile"};
-    }
-    p.target_speed_mps = *speed;
-    p.accel_mps2 = accel.value_or(p.accel_mps2);
+  const bool based = suggested && (!shape || *shape == suggested->shape);
+  ConveyorProfile p = based ? *suggested : ConveyorProfile{};
+  if (shape) p.shape = *shape;
+  const auto speed = args.number("speed");
+  const auto accel = args.number("accel");
+  if (!based && !speed) {
+    throw UsageError{suggested ? "solve: --speed is required for a --profile other than the "
+                                 "scenario's suggested " +
+                                     std::string(to_string(suggested->shape))
+                               : "solve: --speed is required (only a scenario brings a suggested "
+                                 "profile)"};
   }
+  if (!based && !accel && uses_accel(p.shape)) {
+    throw UsageError{"solve: --accel is required for the " + std::string(to_string(p.shape)) +
+                     " profile"};
+  }
+  p.target_speed_mps = speed.value_or(p.target_speed_mps);
+  p.accel_mps2 = accel.value_or(p.accel_mps2);
   p.decel_mps2 = args.number("decel").value_or(p.decel_mps2);
   p.decel_start_s = args.number("decel-start").value_or(p.decel_start_s);
   p.curve_radius_m = args.number("radius").value_or(p.curve_radius_m);
   p.curve_angle_deg = args.number("angle").value_or(p.curve_angle_deg);
   p.eumos_g = args.number("eumos-g").value_or(p.eumos_g);
+  const bool changed = !based || std::any_of(std::begin(kProfileFlags), std::end(kProfileFlags),
+                                             [&](const auto& f) { return args.text(f.first); });
   if (auto duration = args.number("duration")) {
     p.duration_s = *duration;
-  } else if (!use_suggested) {
-    p.duration_s = default_duration(p);
+  } else if (changed) {
+    p.duration_s = based ? std::max(p.duration_s, default_duration(p)) : default_duration(p);
   }
   return p;
+}
+
+// A profile's diagnostics as its user wrote them: at the flag that set the field ("--duration")
+// where one did, else at the field of the scenario's suggested profile.
+Diagnostics at_flags(Diagnostics diagnostics, const Args& args) {
+  for (auto& d : diagnostics) {
+    for (const auto& [flag, field] : kProfileFlags) {
+      if (d.pointer == std::string("/profile/") + field) {
+        d.pointer =
+            args.text(flag) ? std::string("--") + flag : "/suggested_profile/" + std::string(field);
+      }
+    }
+  }
+  return diagnostics;
 }
 
 // --fidelity: which model answers (core/analysis/fidelity.hpp); automatic when absent.
@@ -171,7 +199,7 @@ int run_solve(const Args& args) {
   auto input = pallet_arg(args.positionals()[0]);
   if (!input) return kExitBadInput;
   const ConveyorProfile profile = profile_from(args, input->suggested_profile);
-  const Diagnostics problems = validate_profile(profile, "/profile");
+  const Diagnostics problems = at_flags(validate_profile(profile, "/profile"), args);
   print_diagnostics(problems);  // errors, and a warning when the run ends mid-motion
   if (has_errors(problems)) return kExitBadInput;
   std::optional<std::ofstream> replay_file;
@@ -493,8 +521,9 @@ std::vector<Command> physics_commands() {
         "Simulate one conveyor profile from rest and print the outcome, the first failure and "
         "the run's statistics. A failed run is followed past its failure (the wreck, up to 3 s, "
         "until the load moves with the belt again), so its replay shows the pallet going over. "
-        "Without --speed and --accel a scenario's suggested profile is run "
-        "(the other flags still override its fields). Exit 0 for a safe or failed outcome, 2 for "
+        "A scenario's suggested profile is run unless --profile names another shape; each "
+        "flag given overrides its field (--speed 2: the suggested motion at 2 m/s). Exit 0 for a "
+        "safe or failed outcome, 2 for "
         "bad input, 1 when the simulation became unstable. " +
             file,
         {{"speed", "V", "target belt speed, m/s (required unless a scenario suggests a profile)"},

@@ -388,7 +388,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   get("/friction", [pair_param](const Request& request, const Params&) {
     auto pair = pair_param(request);
     if (holds_response(pair)) return std::get<Response>(pair);
-    auto t = number_param(request, "temp_c", std::nullopt, -40.0, 40.0);
+    auto t = number_param(request, "temp_c", std::nullopt, kMinTempC, kMaxTempC);
     if (holds_response(t)) return std::get<Response>(t);
     auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
     if (holds_response(since)) return std::get<Response>(since);
@@ -400,8 +400,8 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto pair = pair_param(request);
     if (holds_response(pair)) return std::get<Response>(pair);
     auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
-    auto t_min = number_param(request, "t_min", -30.0, -40.0, 40.0);
-    auto t_max = number_param(request, "t_max", 25.0, -40.0, 40.0);
+    auto t_min = number_param(request, "t_min", -30.0, kMinTempC, kMaxTempC);
+    auto t_max = number_param(request, "t_max", 25.0, kMinTempC, kMaxTempC);
     auto n = number_param(request, "n", 56.0, 2.0, 500.0);
     for (const auto* v : {&since, &t_min, &t_max, &n}) {
       if (holds_response(*v)) return std::get<Response>(*v);

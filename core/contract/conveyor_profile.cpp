@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/base/text.hpp"
+#include "core/contract/json_reader.hpp"
 
 namespace pb {
 
@@ -109,35 +110,32 @@ std::vector<double> ConveyorProfile::breakpoints() const {
 
 namespace {
 
-void check_range(Diagnostics& out, const std::string& pointer, const char* name, double value,
-                 double lo, bool lo_open, double hi, const char* unit) {
+void check_range(Diagnostics& out, const std::string& pointer, double value, double lo,
+                 bool lo_open, double hi, const char* unit) {
   const bool bad = !std::isfinite(value) || (lo_open ? value <= lo : value < lo) || value > hi;
   if (!bad) return;
-  std::string msg = std::string(name) + " must be a finite number in " + (lo_open ? "(" : "[") +
-                    std::to_string(lo) + ", " + std::to_string(hi) + "] " + unit + "; it is " +
-                    (std::isfinite(value) ? std::to_string(value) : "not finite");
-  out.push_back({pointer, msg, Severity::error});
+  const std::string allowed = std::string("a number in ") + (lo_open ? "(" : "[") +
+                              short_number(lo) + ", " + short_number(hi) + "] " + unit;
+  out.push_back(
+      {pointer,
+       wording::out_of_range(std::isfinite(value) ? short_number(value) : "not finite", allowed),
+       Severity::error});
 }
 
 }  // namespace
 
 Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix) {
   Diagnostics out;
-  check_range(out, prefix + "/target_speed_mps", "target_speed_mps", p.target_speed_mps, 0.0, false,
-              5.0, "m/s");
-  check_range(out, prefix + "/accel_mps2", "accel_mps2", p.accel_mps2, 0.0, true, 10.0, "m/s^2");
-  check_range(out, prefix + "/duration_s", "duration_s", p.duration_s, 0.0, true, 30.0, "s");
-  check_range(out, prefix + "/decel_start_s", "decel_start_s", p.decel_start_s, 0.0, false, 30.0,
-              "s");
-  check_range(out, prefix + "/decel_mps2", "decel_mps2", p.decel_mps2, 0.0, true, 20.0, "m/s^2");
-  check_range(out, prefix + "/curve_radius_m", "curve_radius_m", p.curve_radius_m, 0.0, true,
-              1000.0, "m");
-  check_range(out, prefix + "/curve_angle_deg", "curve_angle_deg", p.curve_angle_deg, 0.0, true,
-              360.0, "deg");
-  check_range(out, prefix + "/curve_start_s", "curve_start_s", p.curve_start_s, 0.0, false, 30.0,
-              "s");
-  check_range(out, prefix + "/eumos_g", "eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
-  check_range(out, prefix + "/eumos_hold_s", "eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
+  check_range(out, prefix + "/target_speed_mps", p.target_speed_mps, 0.0, false, 5.0, "m/s");
+  check_range(out, prefix + "/accel_mps2", p.accel_mps2, 0.0, true, 10.0, "m/s^2");
+  check_range(out, prefix + "/duration_s", p.duration_s, 0.0, true, 30.0, "s");
+  check_range(out, prefix + "/decel_start_s", p.decel_start_s, 0.0, false, 30.0, "s");
+  check_range(out, prefix + "/decel_mps2", p.decel_mps2, 0.0, true, 20.0, "m/s^2");
+  check_range(out, prefix + "/curve_radius_m", p.curve_radius_m, 0.0, true, 1000.0, "m");
+  check_range(out, prefix + "/curve_angle_deg", p.curve_angle_deg, 0.0, true, 360.0, "deg");
+  check_range(out, prefix + "/curve_start_s", p.curve_start_s, 0.0, false, 30.0, "s");
+  check_range(out, prefix + "/eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
+  check_range(out, prefix + "/eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
   if (const double end = p.motion_end_s(); !has_errors(out) && end >= p.duration_s) {
     out.push_back({prefix + "/duration_s",
                    "the belt is still changing its motion when the run ends at " +

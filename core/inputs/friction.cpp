@@ -300,10 +300,14 @@ std::vector<FrictionSample> FrictionModel::curve(std::string_view key, double t0
   if (find(key) == nullptr || !(step > 0.0) || !std::isfinite(t0) || !std::isfinite(t1)) {
     return samples;
   }
+  // By count, not by adding steps: where a step is below the temperatures' resolution (t0 = 1e300,
+  // step 1) adding it never reaches t1.
+  const double intervals = (t1 - t0) / step;
+  if (!(intervals >= 0.0 && intervals <= 1e6)) return samples;
+  const auto count = static_cast<std::size_t>(std::floor(intervals + 1e-9)) + 1;
   const double tolerance = step * 1e-9;
-  for (std::size_t i = 0;; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
     double t = t0 + static_cast<double>(i) * step;
-    if (t > t1 + tolerance) break;
     if (std::abs(t - t1) <= tolerance) t = t1;
     samples.push_back({t, *steady(key, t), *effective(key, t, seconds_since_change)});
   }

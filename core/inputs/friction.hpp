@@ -11,6 +11,11 @@
 
 namespace pb {
 
+/// The temperatures the friction tables cover: a pallet's body_temp_c (validation), the service's
+/// friction routes and the CLI's friction verb accept these, C.
+inline constexpr double kMinTempC = -40.0;
+inline constexpr double kMaxTempC = 40.0;
+
 struct FrictionPoint {
   double temp_c = 0.0;
   double mu_s = 0.0;  ///< static

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/inputs/validation.hpp"
+
 #include "core/base/text.hpp"
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 
 #include "core/contract/pallet_metrics.hpp"
 #include "core/contract/pallet_type.hpp"
+#include "core/inputs/friction.hpp"
 #include "core/inputs/static_stability.hpp"
 
 namespace pb {
@@ -104,7 +106,8 @@ bool check_base(Checker& c, const PalletConfig& config) {
     }
   }
   c.in_range("/base_mass_kg", "base_mass_kg", config.base_mass_kg, {0.0, 100.0, true}, "kg");
-  c.in_range("/body_temp_c", "body_temp_c", config.body_temp_c, {-40.0, 40.0, false}, "degC");
+  c.in_range("/body_temp_c", "body_temp_c", config.body_temp_c, {kMinTempC, kMaxTempC, false},
+             "degC");
   c.in_range("/seconds_since_temp_change", "seconds_since_temp_change",
              config.seconds_since_temp_change, {0.0, std::numeric_limits<double>::max(), false},
              "s");

@@ -267,6 +267,13 @@ class CliTest : public QObject {
     QCOMPARE(range.exit_code, 2);
     Run since = cli({QStringLiteral("friction"), QStringLiteral("--since"), QStringLiteral("-1")});
     QCOMPARE(since.exit_code, 2);
+    // Below absolute zero, or so large a step cannot move it (that looped until memory ran out).
+    for (const char* t : {"-300", "1e300"}) {
+      Run cold = cli({QStringLiteral("friction"), QStringLiteral("--from"), QString::fromLatin1(t),
+                      QStringLiteral("--to"), QString::fromLatin1(t)});
+      QCOMPARE(cold.exit_code, 2);
+      QVERIFY2(cold.err.contains("the friction tables cover -40 to 40 C"), cold.err.constData());
+    }
   }
 };
 

@@ -253,7 +253,22 @@ class PhysicsCliTest : public QObject {
     QCOMPARE(num(e, "decel_start_s"), 0.2);
     QVERIFY(std::abs(num(e, "duration_s") - 2.2) < 1e-12);
 
-    // Flags override a suggested profile's fields only when --speed and --accel are absent.
+    // Every flag overrides its field of a suggested profile, --speed and --accel too; a changed
+    // motion runs until it ends plus a second unless --duration says otherwise.
+    Run faster = cli({QStringLiteral("solve"), QStringLiteral("top-heavy-surprise"),
+                      QStringLiteral("--speed"), QStringLiteral("0.5")});
+    QVERIFY2(faster.exit_code == 0, faster.err.constData());
+    const QJsonObject f = faster.json().object().value(QStringLiteral("profile")).toObject();
+    QCOMPARE(num(f, "target_speed_mps"), 0.5);
+    QCOMPARE(num(f, "accel_mps2"), 4.0);  // the scenario's
+    QCOMPARE(str(f, "shape"), QStringLiteral("accel_hold"));
+    // Another shape than the suggested one starts from nothing: --speed is required.
+    Run slow = cli({QStringLiteral("solve"), QStringLiteral("top-heavy-surprise"),
+                    QStringLiteral("--profile"), QStringLiteral("curve")});
+    QCOMPARE(slow.exit_code, 2);
+    QVERIFY2(slow.err.contains("--speed is required for a --profile other than the scenario's"),
+             slow.err.constData());
+
     Run longer = cli({QStringLiteral("solve"), QStringLiteral("top-heavy-surprise"),
                       QStringLiteral("--duration"), QStringLiteral("0.5")});
     QVERIFY2(longer.exit_code == 0, longer.err.constData());
@@ -273,12 +288,13 @@ class PhysicsCliTest : public QObject {
     row("speed not a number", {p, "--speed", "fast", "--accel", "1"}, "--speed expects a number");
     row("no speed", {p, "--accel", "1"}, "--speed is required");
     row("no accel", {p, "--speed", "1"}, "--accel is required for the accel_hold profile");
-    row("zero accel", {p, "--speed", "1", "--accel", "0"}, "/profile/accel_mps2: ");
-    row("too fast", {p, "--speed", "6", "--accel", "1"}, "/profile/target_speed_mps: ");
+    row("zero accel", {p, "--speed", "1", "--accel", "0"},
+        "--accel: 0 is out of range; write a number in (0, 10] m/s^2");
+    row("too fast", {p, "--speed", "6", "--accel", "1"}, "--speed: 6 is out of range");
     row("too long", {p, "--speed", "1", "--accel", "1", "--duration", "40"},
-        "/profile/duration_s: ");
+        "--duration: 40 is out of range");
     row("bad curve", {p, "--profile", "curve", "--speed", "1", "--radius", "-2"},
-        "/profile/curve_radius_m: ");
+        "--radius: -2 is out of range");
     row("unknown shape", {p, "--profile", "zigzag", "--speed", "1"},
         "accel_hold, constant, ramp_decel, estop, curve or eumos");
     row("zero hz", {p, "--speed", "1", "--accel", "1", "--hz", "0"}, "--hz must be above 0");

@@ -220,6 +220,8 @@ class FrictionTest : public QObject {
     QVERIFY(model().curve("carton/carton", 0.0, 10.0, 0.0, 0.0).empty());
     QVERIFY(model().curve("carton/carton", 0.0, 10.0, -1.0, 0.0).empty());
     QVERIFY(model().curve("carton/carton", 10.0, 0.0, 1.0, 0.0).empty());
+    // A step below the temperatures' resolution: one sample, not a loop that never reaches t1.
+    QCOMPARE(model().curve("carton/carton", 1e300, 1e300, 1.0, 0.0).size(), std::size_t{1});
   }
 
   void forPalletKeys() {
