@@ -92,6 +92,11 @@ int main(int argc, char** argv) {
                  "the line's emergency-stop deceleration, m/s^2")
       ->check(CLI::Range(0.01, 20.0))
       ->capture_default_str();
+  app.add_option("--confidence-samples", service.pool.analyzer.confidence.samples,
+                 "estimate every analysis's confidence from this many samples (4 x more "
+                 "simulations each); 0: not estimated, confidence null")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
   app.add_option("--curve-radius", service.pool.analyzer.line.curve_radius_m,
                  "the line's tightest curve, m")
       ->check(CLI::Range(0.01, 1000.0))

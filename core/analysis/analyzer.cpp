@@ -230,7 +230,9 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
   env->result.config_hash = p.fingerprint;
   env->result.fidelity = p.fidelity.level;
   env->result.sim_runtime_ms = ms_since(start);
-  if (options_.confidence.samples > 0 && env->result.verdict != Verdict::reject) {
+  if (options_.confidence.samples > 0 && env->result.verdict == Verdict::reject) {
+    env->result.confidence = 0.0;
+  } else if (options_.confidence.samples > 0) {
     auto c = limits_confidence(*p.scene, *env, options_.line, options_.search, options_.confidence,
                                options_.sim);
     if (!c) return Result<Envelope>::failure(std::move(c.diagnostics));

@@ -69,6 +69,9 @@ void check_computed(JsonReader& reader, const Json& object, const std::string& p
 Json to_json_value(double value) {
   return value;
 }
+Json to_json_value(const std::optional<double>& value) {
+  return value ? Json(*value) : Json(nullptr);
+}
 Json to_json_value(int value) {
   return value;
 }

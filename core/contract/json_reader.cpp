@@ -94,6 +94,17 @@ std::string JsonReader::found(const Json& json) {
   return json.type_name();
 }
 
+bool JsonReader::read(const Json& json, const std::string& pointer, std::optional<double>& out) {
+  if (json.is_null()) {
+    out.reset();
+    return true;
+  }
+  double value = 0.0;
+  if (!read(json, pointer, value)) return false;
+  out = value;
+  return true;
+}
+
 bool JsonReader::read(const Json& json, const std::string& pointer, double& out) {
   if (!json.is_number()) {
     error(pointer, wording::wrong_type("a number", found(json), "write a plain number"));

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -65,6 +66,8 @@ class JsonReader {
 
   // Values. A number is any finite JSON number; a whole number one without a fraction.
   bool read(const Json& json, const std::string& pointer, double& out);
+  /// A number, or null for none.
+  bool read(const Json& json, const std::string& pointer, std::optional<double>& out);
   bool read(const Json& json, const std::string& pointer, int& out);
   bool read(const Json& json, const std::string& pointer, std::uint64_t& out);
   bool read(const Json& json, const std::string& pointer, bool& out);

@@ -2,6 +2,7 @@
 // The answer for one pallet: the conveyor motion it survives and what fails first.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/base/enums.hpp"
@@ -20,9 +21,10 @@ struct SafetyResult {
   /// [0, 1]: the probability that the pallet survives every reported limit (start-up at
   /// max_accel, stop at max_decel, curve at max_lateral, the line's e-stop from max_speed) when
   /// each contact pair's friction varies lognormally (sigma 10 %) and each item's mass by
-  /// N(1, 5 %), estimated from M seeded samples (core/analysis/uncertainty.hpp). 0 when not
-  /// estimated (AnalyzerOptions::confidence.samples = 0, the default) or for a rejected pallet.
-  double confidence = 0.0;
+  /// N(1, 5 %), estimated from M seeded samples (core/analysis/uncertainty.hpp); 0 for a rejected
+  /// pallet. Absent (JSON null) when not estimated (AnalyzerOptions::confidence.samples = 0, the
+  /// default): a 0 there read as "certain to fail".
+  std::optional<double> confidence;
   double sim_runtime_ms = 0.0;
   std::string config_hash;
   // Ours.

@@ -8,6 +8,7 @@
 
 #include "core/analysis/analyzer.hpp"
 #include "core/analysis/envelope.hpp"
+#include "core/contract/json_io.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
 
@@ -121,7 +122,7 @@ class UncertaintyTest : public QObject {
     QVERIFY(a->failures > 0 && a->failures < 24);
   }
 
-  // The analyzer's confidence: off by default (0, no extra simulations); with M samples it is
+  // The analyzer's confidence: off by default (null, no extra simulations); with M samples it is
   // 1 - p_fail of the reported limits and costs 4 M simulations more.
   void analyzerConfidenceIsOptIn() {
     const FrictionModel friction = test::constant_friction({1.0, 0.3, 0.4});
@@ -131,7 +132,8 @@ class UncertaintyTest : public QObject {
     Analyzer plain(options, friction);
     auto base = plain.analyze(config);
     QVERIFY2(base, base ? "" : to_string(base.diagnostics[0]).c_str());
-    QCOMPARE(base->confidence, 0.0);
+    QVERIFY(!base->confidence);
+    QVERIFY(safety_result_to_json(*base)["confidence"].is_null());
     options.confidence.samples = 8;
     Analyzer with(options, friction);
     auto env = with.envelope(config);
@@ -140,16 +142,16 @@ class UncertaintyTest : public QObject {
     QCOMPARE(r.verdict, Verdict::ok);
     QCOMPARE(r.max_accel_mps2, base->max_accel_mps2);
     QCOMPARE(r.sims_run, base->sims_run + 4 * 8);
-    QVERIFY(r.confidence >= 0.0 && r.confidence <= 1.0);
+    QVERIFY(r.confidence && *r.confidence >= 0.0 && *r.confidence <= 1.0);
     // Recompute it: the same seed gives the same samples.
     auto again = limits_confidence(*with.prepare(config).value.value()->scene, *env, options.line,
                                    options.search, options.confidence);
     QVERIFY(again);
-    QCOMPARE(r.confidence, 1.0 - again->p_fail);
+    QCOMPARE(*r.confidence, 1.0 - again->p_fail);
     qInfo(
         "carton: limits accel %.2f decel %.2f lateral %.2f speed %.2f; confidence %.3f [%d of "
         "8 samples fail; modes %d]",
-        r.max_accel_mps2, r.max_decel_mps2, r.max_lateral_g, r.max_speed_mps, r.confidence,
+        r.max_accel_mps2, r.max_decel_mps2, r.max_lateral_g, r.max_speed_mps, *r.confidence,
         again->failures, int(again->modes.size()));
   }
 };

@@ -110,6 +110,18 @@ class SafetyResultTest : public QObject {
     QVERIFY(*read == expected);
   }
 
+  // Not estimated: null, and read back as none (a 0 would read as "certain to fail").
+  void confidenceNotEstimatedIsNull() {
+    SafetyResult r = sample();
+    r.confidence.reset();
+    const Json json = safety_result_to_json(r);
+    QVERIFY(json.contains("confidence") && json["confidence"].is_null());
+    auto read = safety_result_from_json(json);
+    QVERIFY(read.ok());
+    QVERIFY(!read->confidence);
+    QVERIFY(*read == r);
+  }
+
   void missingReferenceFieldIsAnError() {
     Json json = safety_result_to_json(sample());
     json.erase("margin_pct");
