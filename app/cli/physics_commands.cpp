@@ -152,6 +152,11 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
   p.curve_radius_m = args.number("radius").value_or(p.curve_radius_m);
   p.curve_angle_deg = args.number("angle").value_or(p.curve_angle_deg);
   p.eumos_g = args.number("eumos-g").value_or(p.eumos_g);
+  if (auto way = args.text("turn")) {
+    auto turn = enum_from_string<CurveTurn>(*way);
+    if (!turn) throw UsageError{"solve: --turn must be " + enum_choices<CurveTurn>()};
+    p.curve_turn = *turn;
+  }
   const bool changed = !based || std::any_of(std::begin(kProfileFlags), std::end(kProfileFlags),
                                              [&](const auto& f) { return args.text(f.first); });
   if (auto duration = args.number("duration")) {
@@ -539,6 +544,9 @@ std::vector<Command> physics_commands() {
          {"decel-start", "S", "when ramp_decel and estop start to slow down, s (default 3)"},
          {"radius", "R", "curve radius, m (default 3)"},
          {"angle", "DEG", "curve angle, deg (default 90)"},
+         {"turn", "WAY",
+          "which way the curve turns: left (default; the load is pushed towards -Y) "
+          "or right"},
          {"eumos-g", "K", "EUMOS 40509 test pulse, in g (default 0.5)"},
          {"replay", "OUT.json", "write the replay (poses at --hz) to OUT.json"},
          {"hz", "HZ", "replay frame rate (default 30)"},

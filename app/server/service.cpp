@@ -231,10 +231,12 @@ std::string known_pairs() {
 
 // ---- the service's own answers ----
 
-Json axis_json(const AxisLimit& a) {
-  return {{"limit", a.limit},       {"mode", to_string(a.mode)},    {"at_ceiling", a.at_ceiling},
-          {"at_floor", a.at_floor}, {"closed_form", a.closed_form}, {"probes", a.probes},
-          {"derived", a.derived}};
+Json axis_json(const AxisLimit& a, bool lateral = false) {
+  Json j = {{"limit", a.limit},       {"mode", to_string(a.mode)},    {"at_ceiling", a.at_ceiling},
+            {"at_floor", a.at_floor}, {"closed_form", a.closed_form}, {"probes", a.probes},
+            {"derived", a.derived}};
+  if (lateral) j["turn"] = to_string(a.turn);
+  return j;
 }
 
 Json explain_json(const SafetyResult& result) {
@@ -260,7 +262,7 @@ std::vector<AxisChoice> axes_of(const Envelope& env, const SearchConfig& s) {
           {Axis::speed, &env.speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps}};
 }
 
-ConveyorProfile probe_profile(Axis axis, double value, const LineDescription& line,
+ConveyorProfile probe_profile(Axis axis, double value, CurveTurn turn, const LineDescription& line,
                               const SearchConfig& s) {
   switch (axis) {
     case Axis::accel:
@@ -268,7 +270,7 @@ ConveyorProfile probe_profile(Axis axis, double value, const LineDescription& li
     case Axis::decel:
       return decel_probe_profile(value, s.speed_max_mps, s);
     case Axis::lateral:
-      return lateral_probe_profile(value, line, s);
+      return lateral_probe_profile(value, line, s, turn);
     case Axis::speed:
       return stop_probe_profile(value, line, s);
   }
@@ -665,7 +667,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     out["cached"] = a.analysis.cache_hit;
     out["axes"] = {{"accel", axis_json(env.accel)},
                    {"decel", axis_json(env.decel)},
-                   {"lateral", axis_json(env.lateral)},
+                   {"lateral", axis_json(env.lateral, true)},
                    {"speed", axis_json(env.speed)}};
     out["probes"] = probes_to_json(env.probes);
     out["explain"] = explain_json(env.result);
@@ -830,16 +832,19 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                                   "failed to replay"}});
     }
     // The failing probe just above the limit, or (a derived axis has no probes) one step above.
+    // A lateral limit fails in its own turn (AxisLimit::turn).
     double value = choice->limit->at_floor ? choice->lo : choice->limit->limit + choice->precision;
     bool probed = false;
     for (const auto& p : env.probes) {
       if (p.axis != choice->axis || p.outcome != Outcome::failed) continue;
+      if (p.axis == Axis::lateral && p.turn != choice->limit->turn) continue;
       if (p.value > choice->limit->limit - 1e-12 && (!probed || p.value < value)) {
         value = p.value;
         probed = true;
       }
     }
-    const ConveyorProfile profile = probe_profile(choice->axis, value, o.line, o.search);
+    const ConveyorProfile profile =
+        probe_profile(choice->axis, value, choice->limit->turn, o.line, o.search);
     std::optional<Result<Solve>> run;
     auto refusal =
         pool_.run(ticket, [&](Analyzer& analyzer) { run = analyzer.solve(config, profile, hz); });

@@ -362,9 +362,10 @@ ConveyorProfile stop_probe_profile(double speed, const LineDescription& line,
 }
 
 ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
-                                      const SearchConfig& s) {
+                                      const SearchConfig& s, CurveTurn turn) {
   ConveyorProfile p;
   p.shape = ProfileShape::curve;
+  p.curve_turn = turn;
   p.curve_radius_m = line.curve_radius_m;
   p.target_speed_mps = std::min(5.0, std::sqrt(lateral_g * kGravity * line.curve_radius_m));
   // The lateral acceleration is what matters; a long arc at a low speed is capped at max_ramp_s.
@@ -426,6 +427,8 @@ struct AxisTask {
   double seed = 0.0;
   double closed_form = 0.0;  ///< the prediction the seed came from
   std::function<ConveyorProfile(double)> profile;
+  /// Verdicts already known (from an earlier search of the same probes): not simulated again.
+  std::map<double, ProbeVerdict> known;
 };
 
 struct AxisOutcome {
@@ -607,8 +610,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   } holding(k == 1 ? cores : nullptr);
   std::unique_ptr<Lookahead> ahead;
   if (holding.cores) ahead = std::make_unique<Lookahead>(*cores, simulator.scene(), rest, o);
-  // Results that exist (ran ahead and finished), for the search's dry runs.
-  std::map<double, ProbeVerdict> known;
+  // Results that exist (ran ahead and finished, or given), for the search's dry runs.
+  std::map<double, ProbeVerdict> known = t.known;
   // The probe the search takes after x if x ends `failed`: the search run again without
   // simulating, on what is known, up to the first probe it does not know.
   auto next_after = [&](double x, bool failed) -> std::optional<double> {
@@ -771,17 +774,38 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     return p.value >= hi ? hi : p.value - 0.5 * precision;
   };
   const std::vector<AxisTask> tasks{
-      {Axis::accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2,
+      {Axis::accel,
+       s.accel_min_mps2,
+       s.accel_max_mps2,
+       s.accel_precision_mps2,
        seed(predicted.accel, rigid.accel, s.accel_max_mps2, s.accel_precision_mps2),
-       predicted.accel.value, [&](double a) { return accel_probe_profile(a, s); }},
-      {Axis::decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2,
+       predicted.accel.value,
+       [&](double a) { return accel_probe_profile(a, s); },
+       {}},
+      {Axis::decel,
+       s.decel_min_mps2,
+       s.decel_max_mps2,
+       s.decel_precision_mps2,
        seed(predicted.decel, rigid.decel, s.decel_max_mps2, s.decel_precision_mps2),
-       predicted.decel.value, [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); }},
-      {Axis::lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g,
+       predicted.decel.value,
+       [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); },
+       {}},
+      {Axis::lateral,
+       s.lateral_min_g,
+       s.lateral_max_g,
+       s.lateral_precision_g,
        seed(predicted.lateral, rigid.lateral, s.lateral_max_g, s.lateral_precision_g),
-       predicted.lateral.value, [&](double g) { return lateral_probe_profile(g, line, s); }},
-      {Axis::speed, s.speed_min_mps, s.speed_max_mps, s.speed_precision_mps, speed_seed, speed_seed,
-       [&](double v) { return stop_probe_profile(v, line, s); }},
+       predicted.lateral.value,
+       [&](double g) { return lateral_probe_profile(g, line, s); },
+       {}},
+      {Axis::speed,
+       s.speed_min_mps,
+       s.speed_max_mps,
+       s.speed_precision_mps,
+       speed_seed,
+       speed_seed,
+       [&](double v) { return stop_probe_profile(v, line, s); },
+       {}},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
@@ -817,11 +841,64 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   auto tell = [&](Axis axis, const AxisOutcome& a) {
     if (found && a.limit && axis != Axis::speed) found(axis, *a.limit);
   };
+  // A curve turning left pushes the load towards -Y, one turning right towards +Y: a load that is
+  // not its own mirror image across the belt (a column off the centre line, a heavier side) may
+  // go over in one turn and not the other, and the line turns both ways. Its lateral search runs
+  // in a left turn, then in a right one from the left limit down (one probe when the right turn
+  // holds there); the limit is the lower, with the mode and turn of the one that fails above it.
+  const bool both_turns = !mirror_symmetric_across(config);
+  auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
+    AxisOutcome a = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k,
+                                s.confirm_limits, ahead, s.speculate_after_ms);
+    if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
+    // First the left limit itself; where the right turn fails there, a search below it from the
+    // closed-form seed, as the left one started (the right turn's verdict at the top known).
+    AxisTask right = tasks[i];
+    right.hi = a.limit->at_ceiling ? right.hi : a.limit->limit;
+    right.lo = right.seed = right.hi;
+    right.profile = [&](double g) { return lateral_probe_profile(g, line, s, CurveTurn::right); };
+    auto search_right = [&](const AxisTask& task) {
+      AxisOutcome r = search_axis(task, simulator, rest, o, s.seed_with_closed_form, k,
+                                  s.confirm_limits, ahead, s.speculate_after_ms);
+      for (Probe& p : r.probes) p.turn = CurveTurn::right;
+      return r;
+    };
+    AxisOutcome b = search_right(right);
+    if (b.limit && b.limit->at_floor && right.hi > tasks[i].lo) {
+      right.known[right.hi] = {true, b.limit->mode, 1.0};
+      right.lo = tasks[i].lo;
+      right.seed = std::min(tasks[i].seed, right.hi);
+      AxisOutcome below = search_right(right);
+      below.probes.insert(below.probes.begin(), b.probes.begin(), b.probes.end());
+      below.ran_ahead += b.ran_ahead;
+      below.speculative += b.speculative;
+      if (below.limit) below.limit->probes += b.limit->probes;
+      b = std::move(below);
+    }
+    a.probes.insert(a.probes.end(), b.probes.begin(), b.probes.end());
+    a.ran_ahead += b.ran_ahead;
+    a.speculative += b.speculative;
+    if (!b.limit) {  // unstable, or an error: the axis has no limit
+      a.limit.reset();
+      a.unstable = b.unstable;
+      a.batch_error = b.batch_error;
+      a.error = b.error;
+      return a;
+    }
+    const int probes = a.limit->probes + b.limit->probes;
+    if (!b.limit->at_ceiling) {  // the right turn fails below the left's limit: it governs
+      const double closed_form = a.limit->closed_form;
+      a.limit = b.limit;
+      a.limit->closed_form = closed_form;
+      a.limit->turn = CurveTurn::right;
+    }
+    a.limit->probes = probes;
+    return a;
+  };
   // Runs axis task i on its plane's model (on the model's own simulator), after the others.
   auto search = [&](std::size_t i) {
     const ProbeModel m = model_of(tasks[i].axis);
-    AxisOutcome a = search_axis(tasks[i], *m.simulator, *m.rest, o, s.seed_with_closed_form, k,
-                                s.confirm_limits, ahead, s.speculate_after_ms);
+    AxisOutcome a = run_task(i, *m.simulator, *m.rest);
     tell(tasks[i].axis, a);
     return a;
   };
@@ -855,9 +932,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         const std::size_t i = order[n];
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
-          outcomes[i] = search_axis(tasks[i], simulator_for(*m.simulator), *m.rest, o,
-                                    s.seed_with_closed_form, k, s.confirm_limits, ahead,
-                                    s.speculate_after_ms);
+          outcomes[i] = run_task(i, simulator_for(*m.simulator), *m.rest);
           tell(tasks[i].axis, outcomes[i]);
         } catch (const std::exception& e) {
           outcomes[i] = {};

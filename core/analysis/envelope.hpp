@@ -98,6 +98,7 @@ struct Probe {
   double sim_time_s = 0.0;    ///< profile time reached
   double peak_ratio = 0.0;    ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
   bool confirmation = false;  ///< the run that confirms a limit (SearchConfig::confirm_limits)
+  CurveTurn turn = CurveTurn::left;  ///< lateral: the way the curve turned
 };
 
 struct AxisLimit {
@@ -111,6 +112,10 @@ struct AxisLimit {
   /// Not probed: derived from another axis's search (search_envelope): the stop from the
   /// start-up's (a mirror-image load), or the e-stop speed from the stop's.
   bool derived = false;
+  /// Lateral: the turn that fails just above the limit. A load that is not its own mirror image
+  /// across the belt is searched in a left turn and then checked, and searched lower if need be,
+  /// in a right one (search_envelope); the limit is the lower.
+  CurveTurn turn = CurveTurn::left;
 };
 
 struct Envelope {
@@ -129,7 +134,7 @@ ConveyorProfile accel_probe_profile(double accel_mps2, const SearchConfig& searc
 ConveyorProfile decel_probe_profile(double decel_mps2, double speed_mps,
                                     const SearchConfig& search);
 ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
-                                      const SearchConfig& search);
+                                      const SearchConfig& search, CurveTurn turn = CurveTurn::left);
 ConveyorProfile stop_probe_profile(double speed_mps, const LineDescription& line,
                                    const SearchConfig& search);
 

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "core/base/text.hpp"
+#include "core/contract/pallet_metrics.hpp"
 #include "core/physics/probe_batch.hpp"
 
 namespace pb {
@@ -127,7 +128,7 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   o.fail_fast = true;
   const int ns = int(map.speeds_mps.size()), na = int(map.accels_mps2.size());
   std::vector<Job> jobs;
-  jobs.reserve(std::size_t(ns * na + 2 * ns));
+  jobs.reserve(std::size_t(ns * na + 3 * ns));
   for (int j = 0; j < na; ++j) {
     for (int i = 0; i < ns; ++i) {
       SearchConfig s = search;
@@ -136,10 +137,18 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
           {accel_probe_profile(map.accels_mps2[std::size_t(j)], s), MapProbe::startup, i, j});
     }
   }
+  // The line's curve turns both ways: a load that is not its own mirror image across the belt
+  // is run in each (search_envelope does the same), and the column takes the worse.
+  const std::vector<CurveTurn> turns = mirror_symmetric_across(scene.config)
+                                           ? std::vector{CurveTurn::left}
+                                           : std::vector{CurveTurn::left, CurveTurn::right};
+  const std::size_t per_column = turns.size() + 1;
   for (int i = 0; i < ns; ++i) {
     const double v = map.speeds_mps[std::size_t(i)];
     const double lateral_g = v * v / (line.curve_radius_m * kGravity);
-    jobs.push_back({lateral_probe_profile(lateral_g, line, search), MapProbe::curve, i, 0});
+    for (CurveTurn turn : turns) {
+      jobs.push_back({lateral_probe_profile(lateral_g, line, search, turn), MapProbe::curve, i, 0});
+    }
     jobs.push_back({stop_probe_profile(v, line, search), MapProbe::estop, i, 0});
   }
 
@@ -159,7 +168,8 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
         return "start-up at " + fixed(map.accels_mps2[std::size_t(job.accel)], 2) + " m/s^2 to " +
                fixed(v, 2) + " m/s";
       case MapProbe::curve:
-        return "curve of " + fixed(line.curve_radius_m, 1) + " m at " + fixed(v, 2) + " m/s";
+        return std::string(to_string(job.profile.curve_turn)) + " curve of " +
+               fixed(line.curve_radius_m, 1) + " m at " + fixed(v, 2) + " m/s";
       default:
         return "e-stop at " + fixed(line.estop_decel_mps2, 1) + " m/s^2 from " + fixed(v, 2) +
                " m/s";
@@ -172,9 +182,12 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   const std::size_t line_base = std::size_t(ns * na);
   map.line_cells.resize(std::size_t(ns));
   for (int i = 0; i < ns; ++i) {
-    const MapCell& curve = results[line_base + 2 * std::size_t(i)];
-    const MapCell& stop = results[line_base + 2 * std::size_t(i) + 1];
-    map.line_cells[std::size_t(i)] = curve.outcome != Outcome::safe ? curve : stop;
+    const std::size_t first = line_base + per_column * std::size_t(i);
+    map.line_cells[std::size_t(i)] = results[first + turns.size()];  // the e-stop
+    for (std::size_t t = turns.size(); t-- > 0;) {  // a failing curve first, the left turn's first
+      if (results[first + t].outcome != Outcome::safe)
+        map.line_cells[std::size_t(i)] = results[first + t];
+    }
   }
   map.cells.resize(std::size_t(ns * na));
   for (std::size_t k = 0; k < line_base; ++k) {

@@ -72,7 +72,7 @@ Json line_to_json(const LineDescription& line, const SearchConfig& search) {
 Json probes_to_json(const std::vector<Probe>& probes) {
   Json out = Json::array();
   for (const auto& p : probes) {
-    out.push_back(
+    Json& probe = out.emplace_back(Json(
         {{"axis", to_string(p.axis)},
          {"value", p.value},
          {"outcome", to_string(p.outcome)},
@@ -82,7 +82,8 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"steps", p.steps},
          {"peak_ratio", p.peak_ratio},
          {"confirmation", p.confirmation},
-         {"wall_ms", p.wall_ms}});
+         {"wall_ms", p.wall_ms}}));
+    if (p.axis == Axis::lateral) probe["turn"] = to_string(p.turn);
   }
   return out;
 }

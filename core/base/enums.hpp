@@ -23,6 +23,9 @@ enum class FailureMode {
   cannot_stand
 };
 enum class ProfileShape { accel_hold, constant, ramp_decel, estop, curve, eumos };
+/// Which way a curve turns, for a load riding along +X: left (its centre on the +Y side, so the
+/// load is pushed towards -Y) or right.
+enum class CurveTurn { left, right };
 /// Pallet base types. The base's surface material (wood or plastic) follows from the type.
 enum class PalletType { eur, gma, chep };
 /// What the pallet rides on (our addition; the reference assumed a rubber belt).
@@ -80,6 +83,11 @@ struct EnumTable<FailureMode> {
        {FailureMode::pallet_slip, "pallet_slip"},
        {FailureMode::load_shift, "load_shift"},
        {FailureMode::cannot_stand, "cannot_stand"}}};
+};
+template <>
+struct EnumTable<CurveTurn> {
+  static constexpr std::array<EnumName<CurveTurn>, 2> names{
+      {{CurveTurn::left, "left"}, {CurveTurn::right, "right"}}};
 };
 template <>
 struct EnumTable<ProfileShape> {

@@ -64,7 +64,7 @@ double ConveyorProfile::velocity_at(double t) const {
 double ConveyorProfile::lateral_velocity_at(double t) const {
   if (shape != ProfileShape::curve) return 0.0;
   const double s = std::clamp(t - curve_start_s, 0.0, curve_duration(*this));
-  return lateral_accel_mps2() * s;
+  return (curve_turn == CurveTurn::left ? 1.0 : -1.0) * lateral_accel_mps2() * s;
 }
 
 namespace {

@@ -19,7 +19,7 @@ namespace pb {
 ///  - curve:      the load rides at target speed; from `curve_start_s`, for the time the arc of
 ///                `curve_angle_deg` at `curve_radius_m` takes at that speed, the belt accelerates
 ///                sideways at v^2 / r (the centripetal acceleration, in a frame that does not turn
-///                with the belt).
+///                with the belt), towards +Y in a left turn (`curve_turn`), -Y in a right one.
 ///  - eumos:      from rest, the belt's acceleration rises linearly to `eumos_g` * g within 50 ms
 ///                and is held for `eumos_hold_s` (>= 0.3 s, EUMOS 40509's test pulse); then the
 ///                speed holds.
@@ -30,12 +30,13 @@ struct ConveyorProfile {
   ProfileShape shape = ProfileShape::accel_hold;
   double decel_start_s = 3.0;  ///< >= 0; ramp_decel and estop
   // Our additions.
-  double decel_mps2 = 2.0;        ///< (0, 20]; estop
-  double curve_radius_m = 3.0;    ///< (0, 1000]; curve
-  double curve_angle_deg = 90.0;  ///< (0, 360]; curve
-  double curve_start_s = 0.1;     ///< >= 0; curve
-  double eumos_g = 0.5;           ///< (0, 2]; eumos
-  double eumos_hold_s = 0.3;      ///< [0.3, 10]; eumos
+  double decel_mps2 = 2.0;                 ///< (0, 20]; estop
+  double curve_radius_m = 3.0;             ///< (0, 1000]; curve
+  double curve_angle_deg = 90.0;           ///< (0, 360]; curve
+  double curve_start_s = 0.1;              ///< >= 0; curve
+  CurveTurn curve_turn = CurveTurn::left;  ///< curve
+  double eumos_g = 0.5;                    ///< (0, 2]; eumos
+  double eumos_hold_s = 0.3;               ///< [0.3, 10]; eumos
 
   /// Commanded belt velocity along X at time t (for t <= 0: the initial speed).
   double velocity_at(double t) const;

@@ -113,6 +113,7 @@ struct ProfileFields {
     f("curve_radius_m", profile.curve_radius_m, false);
     f("curve_angle_deg", profile.curve_angle_deg, false);
     f("curve_start_s", profile.curve_start_s, false);
+    f("curve_turn", profile.curve_turn, false);
     f("eumos_g", profile.eumos_g, false);
     f("eumos_hold_s", profile.eumos_hold_s, false);
   }

@@ -225,7 +225,11 @@ std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config) {
   return out;
 }
 
-bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m) {
+namespace {
+
+// Whether the load is its own mirror image across the plane `coordinate` = 0 (0: x, 1: y).
+bool mirror_symmetric(const PalletConfig& config, int coordinate, double tolerance_m) {
+  const int other = 1 - coordinate;
   const auto& items = config.items;
   auto near = [&](double a, double b) { return std::abs(a - b) <= tolerance_m; };
   auto footprint = [](const Item& it) {  // yaw a multiple of 90 degrees: the extents along X, Y
@@ -242,9 +246,10 @@ bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m) {
     bool found = false;
     for (std::size_t j = i; j < items.size() && !found; ++j) {
       const Item& b = items[j];
-      if (used[j] || !near(b.position[0], -a.position[0]) || !near(b.position[1], a.position[1]) ||
-          !near(b.position[2], a.position[2]) || b.sku != a.sku || b.weight_kg != a.weight_kg ||
-          b.dims_m[2] != a.dims_m[2] || footprint(a) != footprint(b)) {
+      if (used[j] || !near(b.position[coordinate], -a.position[coordinate]) ||
+          !near(b.position[other], a.position[other]) || !near(b.position[2], a.position[2]) ||
+          b.sku != a.sku || b.weight_kg != a.weight_kg || b.dims_m[2] != a.dims_m[2] ||
+          footprint(a) != footprint(b)) {
         continue;
       }
       used[i] = used[j] = found = true;
@@ -252,6 +257,16 @@ bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m) {
     if (!found) return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m) {
+  return mirror_symmetric(config, 0, tolerance_m);
+}
+
+bool mirror_symmetric_across(const PalletConfig& config, double tolerance_m) {
+  return mirror_symmetric(config, 1, tolerance_m);
 }
 
 }  // namespace pb

@@ -70,6 +70,9 @@ std::vector<double> support_fractions(const PalletConfig& config, double toleran
 /// twin at (-x, y, z) of the same size, mass and SKU (an item on the plane is its own twin), every
 /// yaw a multiple of 90 degrees; positions within `tolerance_m`.
 bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m = 0.001);
+/// The same across the plane y = 0 (across the belt): a curve turning either way is one
+/// experiment, mirrored.
+bool mirror_symmetric_across(const PalletConfig& config, double tolerance_m = 0.001);
 
 /// Surfaces within this distance touch (validation's tolerance).
 inline constexpr double kSupportTolerance_m = 0.001;

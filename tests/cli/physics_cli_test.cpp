@@ -393,8 +393,12 @@ class PhysicsCliTest : public QObject {
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
       // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, confirmation
-      // (false: --confirm-limits not given), wall_ms
-      QCOMPARE(p.size(), 10);
+      // (false: --confirm-limits not given), wall_ms; and the turn of a curve's probe
+      const bool curve = str(p, "axis") == QStringLiteral("lateral");
+      QCOMPARE(p.size(), curve ? 11 : 10);
+      if (curve)
+        QVERIFY(str(p, "turn") == QStringLiteral("left") ||
+                str(p, "turn") == QStringLiteral("right"));
       QCOMPARE(p.value(QStringLiteral("confirmation")), QJsonValue(false));
       axes.insert(str(p, "axis"));
       const bool failed = str(p, "outcome") == QStringLiteral("failed");

@@ -572,6 +572,40 @@ class EnvelopeTest : public QObject {
     QVERIFY(env.ok());
     QVERIFY(!env->decel.derived && env->decel.probes > 0);
   }
+
+  // The line's curves turn both ways. A 200 kg block towards the pallet's +Y edge takes the whole
+  // loaded pallet over that edge at g (0.4 - y_com) / z_com = 0.38 g in a right turn (which pushes
+  // the load towards +Y); a left turn only tips the block over its own -Y edge, at
+  // g (0.15 + 0.1) / 0.6 = 0.42 g. The limit is the right turn's, and the mirror image of the load
+  // has the same limit from its left turn. A load that is its own mirror image across the belt
+  // is run in one turn only.
+  void curvesAreSearchedInBothTurns() {
+    const test::ConstantMu grip{1.0, 0.8, 0.8};  // nothing slides below 0.8 g
+    auto block = [](double y) { return test::carton(0, y, 0.15, {0.4, 0.5, 1.2}, 200.0); };
+    const double whole_load_tip =
+        (0.4 - 200.0 * 0.15 / 225.0) / ((25.0 * 0.075 + 200.0 * 0.75) / 225.0);  // 0.378 g
+    std::optional<double> limits[2];
+    for (const double y : {0.15, -0.15}) {
+      auto s = settle(test::pallet({block(y)}), grip);
+      QVERIFY(s);
+      auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+      QVERIFY2(env.ok(), env.ok() ? "" : env.diagnostics[0].message.c_str());
+      const CurveTurn weak = y > 0 ? CurveTurn::right : CurveTurn::left;
+      QCOMPARE(env->lateral.turn, weak);
+      QCOMPARE(env->lateral.mode, FailureMode::tip_over);
+      QVERIFY2(std::abs(env->lateral.limit - whole_load_tip) <= 1.5 * search_.lateral_precision_g,
+               describe(env->lateral));
+      bool right = false;
+      for (const Probe& p : env->probes) right = right || p.turn == CurveTurn::right;
+      QVERIFY(right);
+      limits[y > 0 ? 0 : 1] = env->lateral.limit;
+    }
+    QVERIFY(std::abs(*limits[0] - *limits[1]) <= search_.lateral_precision_g + 1e-9);
+    auto centred = settle(test::pallet({block(0.0)}), grip);
+    auto env = search_envelope(*centred->sim, centred->rest, centred->bounds, line_, search_);
+    QVERIFY(env.ok());
+    for (const Probe& p : env->probes) QCOMPARE(p.turn, CurveTurn::left);
+  }
 };
 
 QTEST_APPLESS_MAIN(EnvelopeTest)

@@ -112,6 +112,10 @@ class ConveyorProfileTest : public QObject {
     QCOMPARE(p.lateral_velocity_at(0.1 + arc_s), 0.75 * arc_s);
     QCOMPARE(p.lateral_velocity_at(10.0), 0.75 * arc_s);  // the arc is over
     QCOMPARE(q(p.breakpoints()), (QList<double>{0.1, 0.1 + arc_s}));
+    // A right turn: the same motion towards -Y (a left one, the default, goes towards +Y).
+    p.curve_turn = CurveTurn::right;
+    QCOMPARE(p.lateral_velocity_at(1.1), -0.75);
+    QCOMPARE(p.lateral_accel_mps2(), 0.75);
   }
 
   void eumosPulse() {

@@ -311,13 +311,14 @@ class JsonIoTest : public QObject {
     profile.curve_radius_m = 2.5;
     profile.curve_angle_deg = 180.0;
     profile.curve_start_s = 0.25;
+    profile.curve_turn = CurveTurn::right;
     profile.eumos_g = 0.8;
     profile.eumos_hold_s = 0.5;
     const Json json = profile_to_json(profile);
     QCOMPARE(keys_of(json),
              (QStringList{"accel_mps2", "curve_angle_deg", "curve_radius_m", "curve_start_s",
-                          "decel_mps2", "decel_start_s", "duration_s", "eumos_g", "eumos_hold_s",
-                          "schema_version", "shape", "target_speed_mps"}));
+                          "curve_turn", "decel_mps2", "decel_start_s", "duration_s", "eumos_g",
+                          "eumos_hold_s", "schema_version", "shape", "target_speed_mps"}));
     QCOMPARE(json["shape"], Json("curve"));
     const auto read = profile_from_json(json);
     QVERIFY(read.ok());

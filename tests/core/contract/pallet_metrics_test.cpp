@@ -191,6 +191,11 @@ class PalletMetricsTest : public QObject {
         test::pallet({carton(-0.3, 0, 0.15), carton(0.3, 0, 0.15, {0.4, 0.3, 0.25})})));
     QVERIFY(
         !mirror_symmetric_along(test::pallet({carton(0, 0, 0.15, {0.4, 0.3, 0.2}, 10.0, 30.0)})));
+    // Across the belt: twins at (x, -y, z).
+    QVERIFY(mirror_symmetric_across(
+        test::pallet({carton(0.1, -0.2, 0.15), carton(0.1, 0.2, 0.15), carton(0.3, 0, 0.15)})));
+    QVERIFY(!mirror_symmetric_across(test::pallet({carton(0, -0.267, 0.15)})));
+    QVERIFY(mirror_symmetric_across(test::pallet({carton(0.2, 0, 0.15)})));
     // Two cartons on one side cannot share the one twin on the other.
     QVERIFY(!mirror_symmetric_along(
         test::pallet({carton(-0.3, 0, 0.15), carton(-0.3, 0, 0.35), carton(0.3, 0, 0.15)})));
