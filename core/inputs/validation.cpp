@@ -381,6 +381,30 @@ class PhysicalChecks {
   std::vector<std::vector<std::size_t>> neighbours_;  ///< footprint_neighbours: the pairs to check
 };
 
+// The base against its type's tare and against the heaviest item it carries.
+void check_base_mass(Checker& c, const PalletConfig& config) {
+  const PalletTypeSpec& spec = pallet_type_spec(config.base_pallet_type);
+  const std::string type(to_string(spec.type));
+  const auto heaviest =
+      std::max_element(config.items.begin(), config.items.end(),
+                       [](const Item& a, const Item& b) { return a.weight_kg < b.weight_kg; });
+  const double ratio =
+      heaviest == config.items.end() ? 0.0 : heaviest->weight_kg / config.base_mass_kg;
+  if (ratio > c.limits().max_item_to_base_mass) {
+    const auto i = std::size_t(heaviest - config.items.begin());
+    c.error("/base_mass_kg",
+            "a base of " + short_number(config.base_mass_kg) + " kg under " +
+                item_name(*heaviest, i) + " (" + short_number(heaviest->weight_kg) + " kg, " +
+                short_number(ratio) + " times as heavy) is beyond what the simulation holds (" +
+                short_number(c.limits().max_item_to_base_mass) + " times); check base_mass_kg (a " +
+                type + " pallet weighs about " + short_number(spec.mass_kg) + " kg)");
+  } else if (config.base_mass_kg < c.limits().light_base_warning * spec.mass_kg) {
+    c.warning("/base_mass_kg", short_number(config.base_mass_kg) + " kg is light for a " + type +
+                                   " pallet (about " + short_number(spec.mass_kg) +
+                                   " kg); check base_mass_kg or base_pallet_type");
+  }
+}
+
 void check_gross_mass(Checker& c, const PalletConfig& config) {
   const PalletTypeSpec& spec = pallet_type_spec(config.base_pallet_type);
   const double cap = std::min(c.limits().max_gross_mass_kg, spec.rated_load_kg + spec.mass_kg);
@@ -432,7 +456,10 @@ Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits,
   PhysicalChecks(c, config, usable).run();
   const bool weights_ok = std::all_of(config.items.begin(), config.items.end(),
                                       [](const Item& it) { return std::isfinite(it.weight_kg); });
-  if (weights_ok && std::isfinite(config.base_mass_kg)) check_gross_mass(c, config);
+  if (weights_ok && std::isfinite(config.base_mass_kg) && config.base_mass_kg > 0.0) {
+    check_base_mass(c, config);
+    check_gross_mass(c, config);
+  }
   check_stack_height(c, config, usable);
   return c.out;
 }

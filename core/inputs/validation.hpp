@@ -38,6 +38,14 @@ struct ValidationLimits {
   /// the engine would simulate with mass ratios it cannot hold.
   double min_density_kg_m3 = 1.0;
   double max_density_kg_m3 = 11340.0;
+  /// The heaviest item over the base's mass: beyond 100 the engine's contact solve loses
+  /// accuracy (a 2 kg base under a 500 kg item answered a curve limit of 0.26 g where 5-25 kg
+  /// bases answer 0.35; a 0.01 kg base under 20 kg rejected a load that is at every ceiling),
+  /// and no real pallet is that light for its load.
+  double max_item_to_base_mass = 100.0;
+  /// A base lighter than this share of its type's tare earns a warning (a typo, or the wrong
+  /// base_pallet_type).
+  double light_base_warning = 0.4;
   bool require_known_skus = false;  ///< every item's SKU must be in the catalog
 };
 

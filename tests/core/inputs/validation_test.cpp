@@ -355,6 +355,30 @@ class ValidationTest : public QObject {
     QVERIFY2(contains(errors[0].message, "lighter than air"), errors[0].message.c_str());
   }
 
+  // A base far lighter than its load is beyond what the simulation holds (refused at
+  // /base_mass_kg); merely light for its type, a warning.
+  void baseTooLightForItsLoad() {
+    PalletConfig config = valid();
+    const double heaviest =
+        std::max_element(config.items.begin(), config.items.end(),
+                         [](const Item& a, const Item& b) { return a.weight_kg < b.weight_kg; })
+            ->weight_kg;
+    config.base_mass_kg = heaviest / 150.0;
+    Diagnostics errors = errors_of(validate(config));
+    QCOMPARE(errors.size(), std::size_t{1});
+    QCOMPARE(errors[0].pointer, std::string("/base_mass_kg"));
+    QVERIFY2(contains(errors[0].message, "150 times as heavy"), errors[0].message.c_str());
+    QVERIFY2(contains(errors[0].message, "weighs about 25 kg"), errors[0].message.c_str());
+    config.base_mass_kg = 5.0;
+    const Diagnostics light = validate(config);
+    QVERIFY(!has_errors(light));
+    QVERIFY(std::any_of(light.begin(), light.end(), [](const Diagnostic& d) {
+      return d.pointer == "/base_mass_kg" && d.severity == Severity::warning;
+    }));
+    config.base_mass_kg = 25.0;
+    for (const Diagnostic& d : validate(config)) QVERIFY(d.pointer != "/base_mass_kg");
+  }
+
   void grossMassAboveTheCap() {
     PalletConfig config = valid();
     for (Item& item : config.items) item.weight_kg = 400.0;  // 1225 kg with the base
