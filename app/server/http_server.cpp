@@ -108,6 +108,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     request.path = req.path;
     for (const auto& [k, v] : req.params) request.query.emplace(k, v);
     request.body = req.body;
+    request.content_type = req.get_header_value("Content-Type");
     // Looked up lazily, by the watchdog's first poll: cheap requests never pay for it.
     auto fd = std::make_shared<int>(-2);
     const std::string remote = req.remote_addr;

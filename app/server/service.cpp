@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <random>
 #include <variant>
@@ -177,24 +178,29 @@ std::optional<Response> unknown_members(const Json& body,
   return diagnostics_response(422, errors);
 }
 
-/// A number from a JSON member (absent: `fallback`), in [lo, hi]; an error naming the member.
+/// A number from a JSON member (absent: `fallback`), in [lo, hi], `whole` for a count or a seed
+/// (2.5 samples is refused, not run as 2); an error naming the member.
 std::variant<double, Response> number_member(const Json& body, const std::string& key,
-                                             double fallback, double lo, double hi) {
+                                             double fallback, double lo, double hi,
+                                             bool whole = false) {
   if (!body.is_object() || !body.contains(key) || body[key].is_null()) return fallback;
   const Json& v = body[key];
-  if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi)) {
-    const std::string what =
-        "must be a number from " + short_number(lo) + " to " + short_number(hi);
+  if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi) ||
+      (whole && v.get<double>() != std::floor(v.get<double>()))) {
+    const std::string what = std::string("must be a ") + (whole ? "whole " : "") + "number from " +
+                             short_number(lo) + " to " + short_number(hi);
     return error_response(422, "/" + key + " " + what, {{"/" + key, what, Severity::error}});
   }
   return v.get<double>();
 }
 
-/// A query parameter as a number (absent: `fallback`), in [lo, hi].
+/// A query parameter as a number (absent: `fallback`), in [lo, hi], `whole` for a count.
 std::variant<double, Response> number_param(const Request& request, const std::string& key,
-                                            std::optional<double> fallback, double lo, double hi) {
+                                            std::optional<double> fallback, double lo, double hi,
+                                            bool whole = false) {
   auto it = request.query.find(key);
-  const std::string range = "a number from " + short_number(lo) + " to " + short_number(hi);
+  const std::string range = std::string("a ") + (whole ? "whole " : "") + "number from " +
+                            short_number(lo) + " to " + short_number(hi);
   if (it == request.query.end()) {
     if (fallback) return *fallback;
     return error_response(422, "the query parameter '" + key + "' is required: " + range);
@@ -202,7 +208,8 @@ std::variant<double, Response> number_param(const Request& request, const std::s
   const std::string& text = it->second;
   double v = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || end != text.data() + text.size() || !(v >= lo && v <= hi)) {
+  if (ec != std::errc() || end != text.data() + text.size() || !(v >= lo && v <= hi) ||
+      (whole && v != std::floor(v))) {
     return error_response(422, "the query parameter '" + key + "' is '" + text + "'; use " + range);
   }
   return v;
@@ -404,7 +411,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
     auto t_min = number_param(request, "t_min", -30.0, kMinTempC, kMaxTempC);
     auto t_max = number_param(request, "t_max", 25.0, kMinTempC, kMaxTempC);
-    auto n = number_param(request, "n", 56.0, 2.0, 500.0);
+    auto n = number_param(request, "n", 56.0, 2.0, 500.0, true);
     for (const auto* v : {&since, &t_min, &t_max, &n}) {
       if (holds_response(*v)) return std::get<Response>(*v);
     }
@@ -695,10 +702,11 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                              std::pair{"accels_mps2", &grids.accels_mps2}}) {
       if (prefix.empty() || !body.contains(key)) continue;
       const Json& v = body[key];
-      if (!v.is_array() || v.size() > 64 ||
+      if (!v.is_array() || v.empty() || v.size() > 64 ||
           !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); })) {
-        return error_response(422,
-                              std::string("/") + key + " must be an array of at most 64 numbers");
+        const std::string what = "must be an array of 1 to 64 numbers (absent: the default grid)";
+        return error_response(422, std::string("/") + key + " " + what,
+                              {{std::string("/") + key, what, Severity::error}});
       }
       *grid = v.get<std::vector<double>>();
     }
@@ -739,9 +747,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (!profile) return diagnostics_response(422, profile.diagnostics);
     const Diagnostics bad_profile = validate_profile(*profile, "/profile");
     if (has_errors(bad_profile)) return diagnostics_response(422, bad_profile);
-    auto samples = number_member(body, "samples", 32, 1, options_.max_uncertainty_samples);
+    auto samples = number_member(body, "samples", 32, 1, options_.max_uncertainty_samples, true);
     if (holds_response(samples)) return std::get<Response>(samples);
-    auto seed = number_member(body, "seed", 0, 0, 9007199254740991.0);
+    auto seed = number_member(body, "seed", 0, 0, 9007199254740991.0, true);
     if (holds_response(seed)) return std::get<Response>(seed);
     UncertaintyOptions uo;
     uo.samples = int(std::get<double>(samples));
@@ -901,16 +909,37 @@ bool match(const std::string& pattern, const std::string& path, Params& params) 
 
 }  // namespace
 
+namespace {
+
+// The content types a web page may POST to another origin without asking first (a CORS "simple
+// request"): refused, so that no page outside the allowlist can start analyses here. A body
+// without a Content-Type (some scripts) or with any JSON type is read as JSON.
+bool simple_form(std::string_view content_type) {
+  std::string type(content_type.substr(0, content_type.find(';')));
+  std::transform(type.begin(), type.end(), type.begin(),
+                 [](unsigned char ch) { return char(std::tolower(ch)); });
+  while (!type.empty() && type.back() == ' ') type.pop_back();
+  return type == "text/plain" || type == "application/x-www-form-urlencoded" ||
+         type == "multipart/form-data";
+}
+
+}  // namespace
+
 Response Service::dispatch(const Request& request, std::string& route) {
   std::vector<std::string> allowed;
   for (const auto& r : routes_) {
     Params params;
     if (!match(r.pattern, request.path, params)) continue;
+    route = r.pattern;
     if (r.method != request.method) {
       allowed.push_back(r.method);
       continue;
     }
-    route = r.pattern;
+    if (request.method == "POST" && !request.body.empty() && simple_form(request.content_type)) {
+      return error_response(415, "the body was sent as '" + request.content_type +
+                                     "'; send JSON with the header content-type: "
+                                     "application/json");
+    }
     return r.handler(request, params);
   }
   if (!allowed.empty()) {

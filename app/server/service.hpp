@@ -19,6 +19,7 @@ struct Request {
   std::string path;    ///< without the query
   std::multimap<std::string, std::string> query;
   std::string body;
+  std::string content_type;  ///< the Content-Type header ("" when absent)
   /// False once the client has gone (closed its connection); empty: assumed present.
   std::function<bool()> client_alive;
 };

@@ -330,6 +330,25 @@ class ServiceRoutesTest : public QObject {
       QCOMPARE(res->status, 422);
       QCOMPARE(body_of(res)["errors"][0]["pointer"], "/bogus");
     }
+    // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers.
+    auto half = client_->Post(
+        "/v1/uncertainty",
+        R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "samples": 2.5, "pallet": )" +
+            pallet + "}",
+        kJson);
+    QCOMPARE(half->status, 422);
+    QCOMPARE(body_of(half)["errors"][0]["pointer"], "/samples");
+    auto empty = client_->Post("/v1/map", R"({"speeds_mps": [], "pallet": )" + pallet + "}", kJson);
+    QCOMPARE(empty->status, 422);
+    QCOMPARE(body_of(empty)["errors"][0]["pointer"], "/speeds_mps");
+    QCOMPARE(client_->Get("/friction/curve?pair=carton/carton&n=2.7")->status, 422);
+    // A web page may POST these types to any origin without asking: refused (415).
+    for (const char* type : {"text/plain", "application/x-www-form-urlencoded; charset=utf-8"}) {
+      auto form = client_->Post("/v1/validate", pallet, type);
+      QCOMPARE(form->status, 415);
+      QVERIFY(body_of(form)["detail"].get<std::string>().find("application/json") !=
+              std::string::npos);
+    }
     // The reference API's routes ignore extra members, as its clients expect.
     QCOMPARE(client_->Post("/solve", R"({"bogus": 1, "pallet": )" + pallet + "}", kJson)->status,
              200);
