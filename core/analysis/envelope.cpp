@@ -872,7 +872,6 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       below.probes.insert(below.probes.begin(), b.probes.begin(), b.probes.end());
       below.ran_ahead += b.ran_ahead;
       below.speculative += b.speculative;
-      if (below.limit) below.limit->probes += b.limit->probes;
       b = std::move(below);
     }
     a.probes.insert(a.probes.end(), b.probes.begin(), b.probes.end());
@@ -885,7 +884,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       a.error = b.error;
       return a;
     }
-    const int probes = a.limit->probes + b.limit->probes;
+    const int probes = a.limit->probes + int(b.probes.size());  // the right turn's simulations
     if (!b.limit->at_ceiling) {  // the right turn fails below the left's limit: it governs
       const double closed_form = a.limit->closed_form;
       a.limit = b.limit;
