@@ -584,7 +584,9 @@ std::vector<Command> physics_commands() {
           "true; about a third more simulations on unwrapped loads)"},
          {"confidence", "M",
           "estimate each result's confidence from M samples (friction x lognormal 10 %, masses "
-          "x N(1, 5 %)): the probability it survives all four limits; 4 x M more simulations. "
+          "x N(1, 5 %)): the probability it survives all four limits; 4-5 x M more simulations (a "
+          "curve in each "
+          "turn for a load that is not its own mirror image across the belt). "
           "Without it confidence is null (not estimated)"}},
         1,
         1000000},

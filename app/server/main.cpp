@@ -93,8 +93,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 20.0))
       ->capture_default_str();
   app.add_option("--confidence-samples", service.pool.analyzer.confidence.samples,
-                 "estimate every analysis's confidence from this many samples (4 x more "
-                 "simulations each); 0: not estimated, confidence null")
+                 "estimate every analysis's confidence from this many samples (4-5 simulations "
+                 "each: a curve in each turn for a load that is not its own mirror image across "
+                 "the belt); 0: not estimated, confidence null")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
   app.add_option("--curve-radius", service.pool.analyzer.line.curve_radius_m,

@@ -2,6 +2,7 @@
 #include "app/server/service.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -906,10 +907,6 @@ bool match(const std::string& pattern, const std::string& path, Params& params) 
   params = std::move(found);
   return true;
 }
-
-}  // namespace
-
-namespace {
 
 // The content types a web page may POST to another origin without asking first (a CORS "simple
 // request"): refused, so that no page outside the allowlist can start analyses here. A body

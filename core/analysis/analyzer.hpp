@@ -39,7 +39,8 @@ struct AnalyzerOptions {
   /// level (what the study's fixed-timestep configurations and the reference use).
   std::optional<double> full_model_timestep_s = 0.001;
   /// SafetyResult.confidence (uncertainty.hpp: limits_confidence): samples > 0 runs 4 x samples
-  /// more simulations per envelope; 0 (the default) leaves confidence at 0, not estimated.
+  /// more simulations per envelope (5 x where the curve is checked in both turns: curve_turns);
+  /// 0 (the default) leaves confidence null, not estimated.
   UncertaintyOptions confidence = {.samples = 0, .seed = 0, .threads = 0, .spread = {}};
   /// Where the automatic level is the full model, a load of identical stacks side by side across a
   /// probe's plane is searched on one copy of each (symmetry.hpp: reduce_symmetric_stacks), per

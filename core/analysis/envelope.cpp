@@ -361,6 +361,11 @@ ConveyorProfile stop_probe_profile(double speed, const LineDescription& line,
   return decel_probe_profile(line.estop_decel_mps2, speed, s);
 }
 
+std::vector<CurveTurn> curve_turns(const PalletConfig& config) {
+  if (mirror_symmetric_across(config)) return {CurveTurn::left};
+  return {CurveTurn::left, CurveTurn::right};
+}
+
 ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
                                       const SearchConfig& s, CurveTurn turn) {
   ConveyorProfile p;
@@ -846,10 +851,13 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // go over in one turn and not the other, and the line turns both ways. Its lateral search runs
   // in a left turn, then in a right one from the left limit down (one probe when the right turn
   // holds there); the limit is the lower, with the mode and turn of the one that fails above it.
-  const bool both_turns = !mirror_symmetric_across(config);
+  const bool both_turns = curve_turns(config).size() > 1;
   auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    AxisOutcome a = search_axis(tasks[i], simulator, rest, o, s.seed_with_closed_form, k,
-                                s.confirm_limits, ahead, s.speculate_after_ms);
+    auto run = [&](const AxisTask& task) {
+      return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
+                         ahead, s.speculate_after_ms);
+    };
+    AxisOutcome a = run(tasks[i]);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
     // First the left limit itself; where the right turn fails there, a search below it from the
     // closed-form seed, as the left one started (the right turn's verdict at the top known).
@@ -858,8 +866,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     right.lo = right.seed = right.hi;
     right.profile = [&](double g) { return lateral_probe_profile(g, line, s, CurveTurn::right); };
     auto search_right = [&](const AxisTask& task) {
-      AxisOutcome r = search_axis(task, simulator, rest, o, s.seed_with_closed_form, k,
-                                  s.confirm_limits, ahead, s.speculate_after_ms);
+      AxisOutcome r = run(task);
       for (Probe& p : r.probes) p.turn = CurveTurn::right;
       return r;
     };

@@ -133,6 +133,10 @@ struct Envelope {
 ConveyorProfile accel_probe_profile(double accel_mps2, const SearchConfig& search);
 ConveyorProfile decel_probe_profile(double decel_mps2, double speed_mps,
                                     const SearchConfig& search);
+/// The turns a load's curves are checked in: a left turn only for a load that is its own mirror
+/// image across the belt (mirror_symmetric_across: both turns are one experiment, mirrored), else
+/// left and right. The envelope, the failure map and the confidence samples all ask this.
+std::vector<CurveTurn> curve_turns(const PalletConfig& config);
 ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& line,
                                       const SearchConfig& search, CurveTurn turn = CurveTurn::left);
 ConveyorProfile stop_probe_profile(double speed_mps, const LineDescription& line,

@@ -7,7 +7,6 @@
 #include <memory>
 
 #include "core/base/text.hpp"
-#include "core/contract/pallet_metrics.hpp"
 #include "core/physics/probe_batch.hpp"
 
 namespace pb {
@@ -139,9 +138,7 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   }
   // The line's curve turns both ways: a load that is not its own mirror image across the belt
   // is run in each (search_envelope does the same), and the column takes the worse.
-  const std::vector<CurveTurn> turns = mirror_symmetric_across(scene.config)
-                                           ? std::vector{CurveTurn::left}
-                                           : std::vector{CurveTurn::left, CurveTurn::right};
+  const std::vector<CurveTurn> turns = curve_turns(scene.config);
   const std::size_t per_column = turns.size() + 1;
   for (int i = 0; i < ns; ++i) {
     const double v = map.speeds_mps[std::size_t(i)];
@@ -182,12 +179,16 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   const std::size_t line_base = std::size_t(ns * na);
   map.line_cells.resize(std::size_t(ns));
   for (int i = 0; i < ns; ++i) {
+    // The first curve that does not hold (left before right), else the e-stop.
     const std::size_t first = line_base + per_column * std::size_t(i);
-    map.line_cells[std::size_t(i)] = results[first + turns.size()];  // the e-stop
-    for (std::size_t t = turns.size(); t-- > 0;) {  // a failing curve first, the left turn's first
-      if (results[first + t].outcome != Outcome::safe)
-        map.line_cells[std::size_t(i)] = results[first + t];
+    std::size_t decides = first + turns.size();
+    for (std::size_t t = first; t < first + turns.size(); ++t) {
+      if (results[t].outcome != Outcome::safe) {
+        decides = t;
+        break;
+      }
     }
+    map.line_cells[std::size_t(i)] = results[decides];
   }
   map.cells.resize(std::size_t(ns * na));
   for (std::size_t k = 0; k < line_base; ++k) {

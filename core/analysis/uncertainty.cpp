@@ -7,7 +7,6 @@
 #include <numbers>
 
 #include "core/base/rng.hpp"
-#include "core/contract/pallet_metrics.hpp"
 #include "core/physics/probe_batch.hpp"
 
 namespace pb {
@@ -144,10 +143,9 @@ Result<UncertaintyResult> limits_confidence(const Scene& scene, const Envelope& 
   if (r.max_decel_mps2 > 0.0) {
     profiles.push_back(decel_probe_profile(r.max_decel_mps2, search.speed_max_mps, search));
   }
-  if (r.max_lateral_g > 0.0) {  // in both turns unless the load is its own mirror image across
-    profiles.push_back(lateral_probe_profile(r.max_lateral_g, line, search));
-    if (!mirror_symmetric_across(scene.config)) {
-      profiles.push_back(lateral_probe_profile(r.max_lateral_g, line, search, CurveTurn::right));
+  if (r.max_lateral_g > 0.0) {
+    for (CurveTurn turn : curve_turns(scene.config)) {
+      profiles.push_back(lateral_probe_profile(r.max_lateral_g, line, search, turn));
     }
   }
   if (r.max_speed_mps > 0.0) profiles.push_back(stop_probe_profile(r.max_speed_mps, line, search));

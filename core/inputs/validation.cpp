@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/inputs/validation.hpp"
 
-#include "core/base/text.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "core/contract/pallet_type.hpp"
 #include "core/inputs/friction.hpp"

@@ -21,6 +21,12 @@ std::string pallet_of(httplib::Client& c, const std::string& slug) {
   return body_of(c.Get(("/scenarios/" + slug).c_str()))["pallet"].dump();
 }
 
+// {members..., "pallet": pallet} posted to a route.
+httplib::Result post_wrapped(httplib::Client& c, const char* route, const std::string& members,
+                             const std::string& pallet) {
+  return c.Post(route, "{" + members + ", \"pallet\": " + pallet + "}", kJson);
+}
+
 }  // namespace
 
 class ServiceRoutesTest : public QObject {
@@ -311,47 +317,43 @@ class ServiceRoutesTest : public QObject {
   // or a line (the service's own), would otherwise be ignored and the answer computed without it.
   void unknown_members_of_a_v1_request_are_refused() {
     const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
-    auto typo = client_->Post(
-        "/v1/uncertainty",
-        R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "sample": 4, "pallet": )" +
-            pallet + "}",
-        kJson);
+    const std::string profile = R"("profile": {"target_speed_mps": 1, "accel_mps2": 1})";
+    auto typo = post_wrapped(*client_, "/v1/uncertainty", profile + R"(, "sample": 4)", pallet);
     QCOMPARE(typo->status, 422);
     QCOMPARE(body_of(typo)["errors"][0]["pointer"], "/sample");
     QVERIFY(body_of(typo)["detail"].get<std::string>().find("'samples'") != std::string::npos);
-    auto line = client_->Post(
-        "/v1/analyze", R"({"line": {"estop_decel_mps2": 4}, "pallet": )" + pallet + "}", kJson);
+    auto line = post_wrapped(*client_, "/v1/analyze", R"("line": {"estop_decel_mps2": 4})", pallet);
     QCOMPARE(line->status, 422);
     QCOMPARE(body_of(line)["errors"][0]["pointer"], "/line");
     QVERIFY(body_of(line)["detail"].get<std::string>().find("--estop-decel") != std::string::npos);
     for (const char* route :
          {"/v1/explain", "/v1/validate", "/v1/map", "/v1/replay", "/v1/solve"}) {
-      auto res = client_->Post(route, R"({"bogus": 1, "pallet": )" + pallet + "}", kJson);
+      auto res = post_wrapped(*client_, route, R"("bogus": 1)", pallet);
       QCOMPARE(res->status, 422);
       QCOMPARE(body_of(res)["errors"][0]["pointer"], "/bogus");
     }
-    // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers.
-    auto half = client_->Post(
-        "/v1/uncertainty",
-        R"({"profile": {"target_speed_mps": 1, "accel_mps2": 1}, "samples": 2.5, "pallet": )" +
-            pallet + "}",
-        kJson);
+    // The reference API's routes ignore extra members, as its clients expect.
+    QCOMPARE(post_wrapped(*client_, "/solve", R"("bogus": 1)", pallet)->status, 200);
+  }
+
+  // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers; a
+  // body a web page may POST to any origin without asking (text/plain, a form) is refused (415).
+  void counts_grids_and_content_types_are_checked() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    const std::string profile = R"("profile": {"target_speed_mps": 1, "accel_mps2": 1})";
+    auto half = post_wrapped(*client_, "/v1/uncertainty", profile + R"(, "samples": 2.5)", pallet);
     QCOMPARE(half->status, 422);
     QCOMPARE(body_of(half)["errors"][0]["pointer"], "/samples");
-    auto empty = client_->Post("/v1/map", R"({"speeds_mps": [], "pallet": )" + pallet + "}", kJson);
+    auto empty = post_wrapped(*client_, "/v1/map", R"("speeds_mps": [])", pallet);
     QCOMPARE(empty->status, 422);
     QCOMPARE(body_of(empty)["errors"][0]["pointer"], "/speeds_mps");
     QCOMPARE(client_->Get("/friction/curve?pair=carton/carton&n=2.7")->status, 422);
-    // A web page may POST these types to any origin without asking: refused (415).
     for (const char* type : {"text/plain", "application/x-www-form-urlencoded; charset=utf-8"}) {
       auto form = client_->Post("/v1/validate", pallet, type);
       QCOMPARE(form->status, 415);
       QVERIFY(body_of(form)["detail"].get<std::string>().find("application/json") !=
               std::string::npos);
     }
-    // The reference API's routes ignore extra members, as its clients expect.
-    QCOMPARE(client_->Post("/solve", R"({"bogus": 1, "pallet": )" + pallet + "}", kJson)->status,
-             200);
   }
 
   void cors_follows_the_allowlist() {
