@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/analysis/envelope.hpp"
+#include "core/analysis/axis_search.hpp"
 #include "core/analysis/fidelity.hpp"
 #include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
@@ -58,216 +59,6 @@ namespace {
 
 constexpr double kSettleLead = 0.05;  // s at steady speed before a stop or a curve begins
 constexpr int kProbesPerSearch = 4;   // what a search plans, for progress (an estimate)
-
-struct ProbeVerdict {
-  bool failed = false;
-  FailureMode mode = FailureMode::no_failure;
-  double peak_ratio = 0.0;  ///< SimResult::peak_ratio
-};
-
-// A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
-// within a step or two of the limit: the walk up keeps its step there instead of doubling.
-constexpr double kNearFailure = 0.5;
-
-// One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect while
-// the bracket, as computed in doubles, is wider than the precision (finest()). Down from a failing
-// seed the steps are three of the precision, then doubling (a seed just above the weakest onset
-// lands within about two steps of the limit); up from a safe one, one step at a time while the last
-// probe came near failing (kNearFailure), else doubling (a pallet that must slip 0.3 m can be ten
-// steps above its onset). Every walk's steps are the precision times powers of two, so the
-// bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
-// assumed monotone along the axis. With a batch function and k > 1 the bracket is narrowed by
-// k-section instead: each round probes k points of the bisection grid of the bracket at once (one
-// batched call), so rounds drop from log2 n to log_{k+1} n; the walk that brackets the boundary
-// takes its next k points per round.
-class AxisSearch {
- public:
-  using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
-  /// One verdict per value, in order; nullopt when any probe was unstable (or the batch failed).
-  using BatchFn =
-      std::function<std::optional<std::vector<ProbeVerdict>>(const std::vector<double>&)>;
-
-  AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true,
-             BatchFn batch = {}, int k = 1)
-      : min_(lo),
-        max_(hi),
-        precision_(precision),
-        probe_(std::move(probe)),
-        seeded_(seeded),
-        batch_(std::move(batch)),
-        k_(k) {}
-
-  // nullopt when a probe was unstable.
-  std::optional<AxisLimit> run(double seed) {
-    AxisLimit out;
-    out.closed_form = seed;
-    std::optional<double> safe, fail;
-    FailureMode fail_mode = FailureMode::no_failure;
-    double last_ratio = 0.0;  // the peak ratio of the probe recorded last
-    auto record = [&](double x, const ProbeVerdict& v) {
-      ++out.probes;
-      last_ratio = v.peak_ratio;
-      if (v.failed) {
-        if (!fail || x < *fail) {
-          fail = x;
-          fail_mode = v.mode;
-        }
-      } else if (!safe || x > *safe) {
-        safe = x;
-      }
-    };
-    auto test = [&](double x) -> std::optional<bool> {
-      auto v = probe_(x);
-      if (!v) {
-        ++out.probes;
-        return std::nullopt;
-      }
-      record(x, *v);
-      return v->failed;
-    };
-    // One batched round: every verdict recorded; nullopt when a probe was unstable.
-    auto round = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
-      auto verdicts = batch_(xs);
-      if (!verdicts) {
-        out.probes += int(xs.size());
-        return std::nullopt;
-      }
-      for (std::size_t t = 0; t < xs.size(); ++t) record(xs[t], (*verdicts)[t]);
-      return verdicts;
-    };
-    // k-section over the points bisection of [a, b] could probe (a and b known already).
-    auto k_section = [&](double a, double b, double width) -> bool {
-      std::vector<double> grid{a};
-      bisection_grid(a, b, width, 0, grid);
-      std::size_t i = 0, j = grid.size() - 1;
-      while (j - i > 1) {
-        const std::size_t m = std::min(std::size_t(k_), j - i - 1);
-        std::vector<std::size_t> idx;
-        for (std::size_t t = 1; t <= m; ++t) {
-          const auto n = i + std::size_t(std::lround(double(t) * double(j - i) / double(m + 1)));
-          if (n > i && n < j && (idx.empty() || n > idx.back())) idx.push_back(n);
-        }
-        std::vector<double> xs;
-        for (std::size_t n : idx) xs.push_back(grid[n]);
-        auto verdicts = round(xs);
-        if (!verdicts) return false;
-        std::size_t new_j = j, new_i = i;
-        for (std::size_t t = 0; t < idx.size(); ++t) {
-          if ((*verdicts)[t].failed && new_j == j) new_j = idx[t];
-        }
-        for (std::size_t t = 0; t < idx.size(); ++t) {
-          if (!(*verdicts)[t].failed && idx[t] < new_j) new_i = std::max(new_i, idx[t]);
-        }
-        i = new_i;
-        j = new_j;
-      }
-      return true;
-    };
-    const bool sectioned = batch_ && k_ > 1;
-    if (!seeded_) {  // the reference's plain bisection over the whole range
-      double lo = min_, hi = max_;
-      if (sectioned && !k_section(lo, hi, precision_)) return std::nullopt;
-      while (!sectioned && hi - lo > precision_) {
-        const double mid = 0.5 * (lo + hi);
-        auto r = test(mid);
-        if (!r) return std::nullopt;
-        (*r ? hi : lo) = mid;
-      }
-      // The ends are only tried when the bisection never left them (a floor or ceiling answer).
-      if (!safe && !test(min_)) return std::nullopt;
-      if (!fail && !test(max_)) return std::nullopt;
-      return finish(out, safe, fail, fail_mode);
-    }
-    const double first = std::clamp(seed, min_, max_);
-    auto r = test(first);
-    if (!r) return std::nullopt;
-    int walked = 0;
-    double step = walk_step(walked);
-    if (sectioned) {
-      // The walk in rounds of the next k points the serial walk would probe (the range's end
-      // last, when the walk reaches it): under monotone failure the first failing (walking up)
-      // or safe (walking down) one is where the serial walk stops, so the bracket is the same.
-      const bool up = !*r;
-      while (up ? !fail : !safe) {
-        std::vector<double> xs;
-        bool last = false;
-        for (double from = up ? *safe : *fail; int(xs.size()) < k_;) {
-          const double x = up ? from + step : from - step;
-          if (up ? x < max_ : x > min_) {
-            xs.push_back(x);
-            from = x;
-            step = walk_step(++walked);
-          } else {
-            if (up ? first < max_ : first > min_) xs.push_back(up ? max_ : min_);
-            last = true;
-            break;
-          }
-        }
-        if (!xs.empty() && !round(xs)) return std::nullopt;
-        if (last) break;
-      }
-    } else if (*r) {  // failed: walk down
-      for (double x = first - step; !safe && x > min_;
-           step = walk_step(++walked), x = *fail - step) {
-        if (!test(x)) return std::nullopt;
-      }
-      if (!safe && first > min_ && !test(min_)) return std::nullopt;
-    } else {  // safe: walk up, one step at a time while the load comes near failing, else doubling
-      for (double x = first + step; !fail && x < max_; x = *safe + step) {
-        if (!test(x)) return std::nullopt;
-        step = step == precision_ && last_ratio >= kNearFailure ? precision_ : 2.0 * step;
-      }
-      if (!fail && first < max_ && !test(max_)) return std::nullopt;
-    }
-    if (sectioned && safe && fail && *fail - *safe > finest()) {
-      if (!k_section(*safe, *fail, finest())) return std::nullopt;
-    }
-    while (!sectioned && safe && fail && *fail - *safe > finest()) {
-      if (!test(0.5 * (*safe + *fail))) return std::nullopt;
-    }
-    return finish(out, safe, fail, fail_mode);
-  }
-
- private:
-  // The walk's n-th step (n from 0): the precision three times, then doubling.
-  double walk_step(int n) const { return precision_ * double(1 << std::clamp(n - 2, 0, 30)); }
-  // The widest bracket the seeded search leaves: the precision, compared as computed. A one-step
-  // bracket reached by adding steps to the seed usually computes a hair wider and is halved once
-  // more, so most limits end within half a step of their threshold, some within one. Both explicit
-  // rules were measured on the unwrapped corpus (core/README.md, "The walk") and are worse: always
-  // half a step put a chaotic stop limit 1.2 steps above the reference, always one step put 9 more
-  // limits more than a step below it.
-  double finest() const { return precision_; }
-
-  // Appends the points bisection of [a, b] until brackets are at most `width` wide can probe after
-  // a, ascending, b last: the same expressions as the bisection, so the same doubles and, when
-  // failure is monotone, the same limit.
-  void bisection_grid(double a, double b, double width, int depth, std::vector<double>& out) const {
-    if (b - a > width && depth < kMaxDepth) {
-      const double m = 0.5 * (a + b);
-      bisection_grid(a, m, width, depth + 1, out);
-      bisection_grid(m, b, width, depth + 1, out);
-    } else {
-      out.push_back(b);
-    }
-  }
-  static constexpr int kMaxDepth = 16;  // 65537 points: far finer than any search needs
-
-  static AxisLimit finish(AxisLimit out, std::optional<double> safe, std::optional<double> fail,
-                          FailureMode fail_mode) {
-    out.at_ceiling = !fail;
-    out.at_floor = !safe;
-    out.limit = safe.value_or(0.0);
-    out.mode = fail ? fail_mode : FailureMode::no_failure;
-    return out;
-  }
-
-  double min_, max_, precision_;
-  ProbeFn probe_;
-  bool seeded_ = true;
-  BatchFn batch_;
-  int k_ = 1;
-};
 
 // How far up its search range a limit sits, in [0, 1].
 double normalised(const AxisLimit& a, double lo, double hi) {
@@ -434,6 +225,9 @@ struct AxisTask {
   std::function<ConveyorProfile(double)> profile;
   /// Verdicts already known (from an earlier search of the same probes): not simulated again.
   std::map<double, ProbeVerdict> known;
+  /// A safe seed that came near failing is checked below (AxisSearch): a load whose items can
+  /// move, seeded from its onsets.
+  bool vouch = false;
 };
 
 struct AxisOutcome {
@@ -452,16 +246,24 @@ ProbeVerdict verdict_of(const SimResult& r) {
                       r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
 }
 
-Probe make_probe(Axis axis, double x, const SimResult& r) {
-  return Probe{axis,
-               x,
-               r.outcome,
-               r.failure ? r.failure->mode : FailureMode::no_failure,
-               r.failure ? r.failure->time_s : 0.0,
-               r.wall_ms,
-               r.steps - r.steps_skipped,
-               r.sim_time_s,
-               r.peak_ratio};
+// `config`: the pallet the probe simulated (a symmetry-reduced one for a reduced model), whose
+// items the failure's indices name.
+Probe make_probe(Axis axis, double x, const SimResult& r, const PalletConfig& config) {
+  Probe p{axis,
+          x,
+          r.outcome,
+          r.failure ? r.failure->mode : FailureMode::no_failure,
+          r.failure ? r.failure->time_s : 0.0,
+          r.wall_ms,
+          r.steps - r.steps_skipped,
+          r.sim_time_s,
+          r.peak_ratio};
+  if (r.failure && r.failure->items.size() == 1) {
+    const auto item = static_cast<std::size_t>(r.failure->items[0]);
+    p.item_tipped =
+        item < config.items.size() && item_tipped(*r.failure, config.items[item].dims_m);
+  }
+  return p;
 }
 
 // Cores the searches of one envelope share, for speculative probes (SearchConfig::speculate): a
@@ -627,7 +429,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       miss = y;
       return std::nullopt;
     };
-    AxisSearch(t.lo, t.hi, t.precision, oracle, seeded).run(t.seed);
+    AxisSearch(t.lo, t.hi, t.precision, oracle, seeded, t.vouch).run(t.seed);
     return miss;
   };
   auto probe = [&](double x) -> std::optional<ProbeVerdict> {
@@ -647,7 +449,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     const SimResult& r = *ran;
     if (o.progress != nullptr) o.progress->finished();
     if (r.outcome != Outcome::unstable) known[x] = verdict_of(r);
-    out.probes.push_back(make_probe(t.axis, x, r));
+    out.probes.push_back(make_probe(t.axis, x, r, simulator.scene().config));
     if (r.outcome == Outcome::unstable) {
       unstable_at(x, r);
       return std::nullopt;
@@ -667,7 +469,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     std::vector<ProbeVerdict> verdicts;
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const SimResult& r = (*runs.value)[i];
-      out.probes.push_back(make_probe(t.axis, xs[i], r));
+      out.probes.push_back(make_probe(t.axis, xs[i], r, simulator.scene().config));
       if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
       verdicts.push_back(verdict_of(r));
     }
@@ -682,7 +484,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (auto it = known.find(x); it != known.end()) return it->second;
     return probe(x);
   };
-  out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, batch, k).run(t.seed);
+  out.limit =
+      AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch, batch, k).run(t.seed);
   if (ahead) {
     ahead->drain();
     out.ran_ahead = ahead->started();
@@ -695,7 +498,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     const double x = out.limit->limit;
     const SimResult r = simulator.run(rest, t.profile(x), twin);
     if (o.progress != nullptr) o.progress->finished();
-    out.probes.push_back(make_probe(t.axis, x, r));
+    out.probes.push_back(make_probe(t.axis, x, r, simulator.scene().config));
     out.probes.back().confirmation = true;
     if (r.outcome == Outcome::unstable) {
       unstable_at(x, r);
@@ -704,9 +507,20 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     }
     if (r.outcome != Outcome::failed) break;
     failing[x] = verdict_of(r);
-    out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded).run(x);
+    out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch).run(x);
   }
-  if (out.limit) out.limit->closed_form = t.closed_form;
+  if (out.limit) {
+    out.limit->closed_form = t.closed_form;
+    // How the lowest failure above the limit went (its mode is the limit's).
+    const Probe* above = nullptr;
+    for (const Probe& p : out.probes) {
+      if (p.outcome == Outcome::failed && p.value > out.limit->limit &&
+          (above == nullptr || p.value < above->value)) {
+        above = &p;
+      }
+    }
+    out.limit->item_tipped = above != nullptr && above->item_tipped;
+  }
   return out;
 }
 
@@ -786,7 +600,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        seed(predicted.accel, rigid.accel, s.accel_max_mps2, s.accel_precision_mps2),
        predicted.accel.value,
        [&](double a) { return accel_probe_profile(a, s); },
-       {}},
+       {},
+       !one_body},
       {Axis::decel,
        s.decel_min_mps2,
        s.decel_max_mps2,
@@ -794,7 +609,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        seed(predicted.decel, rigid.decel, s.decel_max_mps2, s.decel_precision_mps2),
        predicted.decel.value,
        [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); },
-       {}},
+       {},
+       !one_body},
       {Axis::lateral,
        s.lateral_min_g,
        s.lateral_max_g,
@@ -802,7 +618,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        seed(predicted.lateral, rigid.lateral, s.lateral_max_g, s.lateral_precision_g),
        predicted.lateral.value,
        [&](double g) { return lateral_probe_profile(g, line, s); },
-       {}},
+       {},
+       !one_body},
       {Axis::speed,
        s.speed_min_mps,
        s.speed_max_mps,
@@ -810,7 +627,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        speed_seed,
        speed_seed,
        [&](double v) { return stop_probe_profile(v, line, s); },
-       {}},
+       {},
+       !one_body},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
@@ -1065,7 +883,8 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.dominant_failure_mode = floor_axis->axis->mode;
     r.margin_pct = 0.0;
     r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
-               floor_axis->name + " tried (" + std::string(mode_words(floor_axis->axis->mode)) +
+               floor_axis->name + " tried (" +
+               std::string(mode_words(floor_axis->axis->mode, floor_axis->axis->item_tipped)) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {
     r.verdict = Verdict::ok;
@@ -1075,8 +894,9 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     // The accelerations were measured on start-ups to, and stops from, the top of the speed
     // range (the probes); the speed limit is the line's, after them.
     why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2"
-        << (env.accel.at_ceiling ? " (the top of the range"
-                                 : " (above it, " + std::string(mode_words(r.accel_mode)))
+        << (env.accel.at_ceiling
+                ? " (the top of the range"
+                : " (above it, " + std::string(mode_words(r.accel_mode, env.accel.item_tipped)))
         << "; measured ramping to " << fixed(s.speed_max_mps, 1) << " m/s); stops at up to "
         << fixed(r.max_decel_mps2, 1) << " m/s^2 (from " << fixed(s.speed_max_mps, 1)
         << " m/s); curves up to " << fixed(r.max_lateral_g, 2) << " g. Top speed "

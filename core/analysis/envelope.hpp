@@ -99,6 +99,7 @@ struct Probe {
   double peak_ratio = 0.0;    ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
   bool confirmation = false;  ///< the run that confirms a limit (SearchConfig::confirm_limits)
   CurveTurn turn = CurveTurn::left;  ///< lateral: the way the curve turned
+  bool item_tipped = false;          ///< a top_item_slide whose item tipped (detectors.hpp)
 };
 
 struct AxisLimit {
@@ -116,6 +117,9 @@ struct AxisLimit {
   /// across the belt is searched in a left turn and then checked, and searched lower if need be,
   /// in a right one (search_envelope); the limit is the lower.
   CurveTurn turn = CurveTurn::left;
+  /// A top_item_slide above the limit whose item tipped rather than slid (item_tipped): the
+  /// reason says "an item tips over".
+  bool item_tipped = false;
 };
 
 struct Envelope {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <optional>
 
 #include "core/base/text.hpp"
 #include "core/physics/quasi_static.hpp"
@@ -165,14 +166,26 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
       }
       const std::string key = on_deck ? cf.item_pallet_key : cf.item_item_key;
       const double has = on_deck ? cf.item_pallet.mu_s : cf.item_item.mu_s;
-      // The item's own weakest mechanism: slipping (friction) or its stack tipping (geometry).
-      const auto weakest = weakest_of(bounds, across, FailureMode::top_item_slide, item);
-      const bool tips = weakest && weakest->what.find("tips") != std::string::npos;
-      if (tips) {
-        return name + moved + ": its stack tips before it slips; " +
-               demand_phrase(profile, demand) + " is more than the " +
-               fixed(weakest->accel_mps2 / kGravity, 2) +
-               " g its footprint holds; restack it lower or wider.";
+      // How it went, as measured: tipped over an edge (item_tipped) or slid flat. A tip quotes
+      // the quasi-static onset of its stack tipping (geometry), a slide its friction.
+      const bool tipped = item >= 0 && item < static_cast<int>(config.items.size()) &&
+                          item_tipped(event, config.items[static_cast<std::size_t>(item)].dims_m);
+      if (tipped) {
+        std::optional<QuasiStaticLimit> tip;
+        for (const auto& l : across ? bounds.across : bounds.along) {
+          if (l.mode != FailureMode::top_item_slide || l.item != item ||
+              l.what.find("tips") == std::string::npos) {
+            continue;
+          }
+          if (!tip || l.accel_mps2 < tip->accel_mps2) tip = l;
+        }
+        std::string s = name + " tipped over" + when + ", turning " +
+                        fixed(event.item_tilt_deg, 1) + " deg and moving " +
+                        fixed(100.0 * event.value, 1) + " cm: " + demand_phrase(profile, demand);
+        s += tip ? " is more than the " + fixed(tip->accel_mps2 / kGravity, 2) +
+                       " g its footprint holds"
+                 : " rocked it over an edge";
+        return s + "; restack it lower or wider.";
       }
       std::string s = name + moved + ": ";
       if (demand > 0.0) {

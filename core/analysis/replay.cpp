@@ -113,10 +113,12 @@ Json frame_to_json(const ReplayFrame& frame) {
 
 Json failure_to_json(const std::optional<FailureEvent>& failure) {
   if (!failure) return nullptr;
-  return {{"mode", to_string(failure->mode)},
-          {"time_s", failure->time_s},
-          {"value", failure->value},
-          {"items", failure->items}};
+  Json j = {{"mode", to_string(failure->mode)},
+            {"time_s", failure->time_s},
+            {"value", failure->value},
+            {"items", failure->items}};
+  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
+  return j;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -166,7 +168,7 @@ std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
                      "null or {\"mode\", \"time_s\", \"value\", \"items\"}")) {
     return std::nullopt;
   }
-  reader.unknown_keys(json, p, {"mode", "time_s", "value", "items"});
+  reader.unknown_keys(json, p, {"mode", "time_s", "value", "items", "item_tilt_deg"});
   FailureEvent event;
   bool ok = true;
   if (const Json* mode = reader.member(json, p, "mode", Need::required)) {
@@ -181,6 +183,8 @@ std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
   }
   ok = required(reader, json, p, "time_s", event.time_s) && ok;
   ok = required(reader, json, p, "value", event.value) && ok;
+  // Replays written before session 13 do not have it.
+  ok = reader.field(json, p, "item_tilt_deg", event.item_tilt_deg, Need::optional) && ok;
   const std::string ip = at(p, "items");
   const Json* items = reader.member(json, p, "items", Need::required);
   if (items && reader.array(*items, ip, "the item indices", "[3, 7] or []")) {

@@ -35,11 +35,13 @@ Json validation_report_to_json(const PalletConfig& config, const Diagnostics& di
 
 Json failure_event_to_json(const std::optional<FailureEvent>& failure) {
   if (!failure) return nullptr;
-  return {{"mode", to_string(failure->mode)},
-          {"time_s", failure->time_s},
-          {"value", failure->value},
-          {"items", failure->items},
-          {"description", describe(*failure)}};
+  Json j = {{"mode", to_string(failure->mode)},
+            {"time_s", failure->time_s},
+            {"value", failure->value},
+            {"items", failure->items},
+            {"description", describe(*failure)}};
+  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
+  return j;
 }
 
 Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile) {
@@ -84,6 +86,7 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"confirmation", p.confirmation},
          {"wall_ms", p.wall_ms}}));
     if (p.axis == Axis::lateral) probe["turn"] = to_string(p.turn);
+    if (p.mode == FailureMode::top_item_slide) probe["item_tipped"] = p.item_tipped;
   }
   return out;
 }

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/detectors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace pb {
 
@@ -10,6 +12,15 @@ namespace {
 
 double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
+
+// How far an item has turned out of level relative to the pallet since rest (deg): the pallet's
+// up at rest, carried along by the item, as the pallet now sees it.
+double turned_out_of_level_deg(const Pose& pallet0, const Pose& item0, const Pose& pallet,
+                               const Pose& item) {
+  const Vec3 up_in_item = rotate_inverse(item0.quat, rotate(pallet0.quat, Vec3{0.0, 0.0, 1.0}));
+  const Vec3 now = rotate_inverse(pallet.quat, rotate(item.quat, up_in_item));
+  return std::acos(std::clamp(now[2], -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 // Distances between every pair i < j, upper triangle row-major.
@@ -54,14 +65,14 @@ std::vector<int> items_of(const Measure& m) {
 
 }  // namespace
 
-std::string_view mode_words(FailureMode mode) {
+std::string_view mode_words(FailureMode mode, bool item_tipped) {
   switch (mode) {
     case FailureMode::no_failure:
       return "nothing fails in range";
     case FailureMode::tip_over:
       return "the load tips over";
     case FailureMode::top_item_slide:
-      return "an item slides off";
+      return item_tipped ? "an item tips over" : "an item slides off";
     case FailureMode::pallet_slip:
       return "the pallet slips on the belt";
     case FailureMode::load_shift:
@@ -81,7 +92,10 @@ std::string what_moved(const FailureEvent& event) {
       return format("the pallet tilted %.1f deg", event.value);
     case FailureMode::top_item_slide:
       if (event.items.size() != 1) break;
-      return "item " + item(0) + format(" moved %.1f cm on the pallet", event.value * 100.0);
+      return "item " + item(0) + format(" moved %.1f cm on the pallet", event.value * 100.0) +
+             (event.item_tilt_deg >= 1.0
+                  ? format(", turning %.1f deg out of level", event.item_tilt_deg)
+                  : "");
     case FailureMode::load_shift:
       if (event.items.size() != 2) break;
       return "items " + item(0) + " and " + item(1) +
@@ -98,6 +112,13 @@ std::string describe(const FailureEvent& event) {
   if (event.mode == FailureMode::no_failure) return "no_failure: " + what_moved(event);
   return std::string(to_string(event.mode)) + format(" at %.3f s: ", event.time_s) +
          what_moved(event);
+}
+
+bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m) {
+  if (event.mode != FailureMode::top_item_slide) return false;
+  const double half_diagonal = 0.5 * std::hypot(item_dims_m[0], item_dims_m[1], item_dims_m[2]);
+  const double turned = event.item_tilt_deg * std::numbers::pi / 180.0;
+  return turned * half_diagonal >= 0.5 * event.value;
 }
 
 Measure measure_tilt(const Pose& pallet) {
@@ -163,7 +184,12 @@ std::optional<FailureEvent> FailureDetector::update(double t, const Trace::BeltS
     }
   }
   if (worst == nullptr) return std::nullopt;
-  return FailureEvent{worst->mode, t, worst->measure.value, items_of(worst->measure)};
+  FailureEvent event{worst->mode, t, worst->measure.value, items_of(worst->measure), 0.0};
+  if (worst->mode == FailureMode::top_item_slide && worst->measure.a >= 0) {
+    const auto i = static_cast<std::size_t>(worst->measure.a);
+    event.item_tilt_deg = turned_out_of_level_deg(pallet0_, items0_[i], pallet, items[i]);
+  }
+  return event;
 }
 
 std::optional<FailureEvent> first_failure(const Trace& trace,

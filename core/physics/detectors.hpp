@@ -29,13 +29,25 @@ struct FailureEvent {
   double time_s = 0.0;
   double value = 0.0;      ///< the measured quantity (deg or m) when it crossed the threshold
   std::vector<int> items;  ///< the item(s) involved: one for a slide, two for a shift, none else
+  /// top_item_slide: how far the item had turned out of level relative to the pallet since rest
+  /// (deg), which tells a carton that tipped from one that slid flat (item_tipped).
+  double item_tilt_deg = 0.0;
 
   bool operator==(const FailureEvent&) const = default;
 };
 
 /// A failure mode in a supervisor's words ("the load tips over", "an item slides off"), never an
-/// identifier: what every panel and every sentence meant for a person says.
-std::string_view mode_words(FailureMode mode);
+/// identifier: what every panel and every sentence meant for a person says. `item_tipped`: a
+/// top_item_slide whose item tipped (item_tipped below), "an item tips over".
+std::string_view mode_words(FailureMode mode, bool item_tipped = false);
+
+/// Whether a top_item_slide's item tipped rather than slid: its turn out of level, times half its
+/// diagonal (the farthest its centre can sit from the edge it pivots on), accounts for at least
+/// half of how far its centre moved. A carton sliding flat turns a degree or two; one tipping
+/// over an edge moves its centre mostly by turning (a 0.2 x 0.2 x 1 m carton: 5.6 deg at 5 cm).
+/// The detectors' contract keeps the mode (the reference's tip_over is the pallet's tilt); this
+/// is how it is told.
+bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m);
 
 /// What a failure event measured, without its mode or time: "item 7 moved 5.1 cm on the pallet".
 std::string what_moved(const FailureEvent& event);

@@ -213,6 +213,7 @@ class EnvelopeTest : public QObject {
       QVERIFY2(axis->limit <= ramp_threshold + 0.01 && axis->limit >= ramp_threshold - 0.1,
                describe(*axis));
       QCOMPARE(axis->mode, FailureMode::top_item_slide);
+      QVERIFY(!axis->item_tipped);  // it slides flat
       QVERIFY(!axis->at_ceiling && !axis->at_floor);
       // Seeded just above mu g, the walk up in steps of 0.1 brackets the threshold one step wide
       // in 3 probes (seed, +0.1, +0.1 more) and one bisection halves that bracket: 4 (5 while
@@ -264,6 +265,26 @@ class EnvelopeTest : public QObject {
         QCOMPARE(p.outcome == Outcome::failed, p.value > env->accel.limit);
       }
     }
+  }
+
+  // A 0.2 x 0.2 x 1 m carton that cannot slip (mu 0.8 on the deck) tips at g (b/2)/h =
+  // 1.962 m/s^2. The detectors' contract calls that top_item_slide (its centre moves 5 cm, at
+  // 5.6 deg); the limit says it tipped, and so does the reason a supervisor reads.
+  void aTallCartonTipsAndIsSaidToTip() {
+    auto s = settle(carton({0.2, 0.2, 1.0}, 20.0), {1.0, 0.8, 0.4});
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY2(env.ok(), env.ok() ? "" : to_string(env.diagnostics[0]).c_str());
+    const double onset = g * 0.1 / 0.5;
+    QVERIFY2(env->accel.limit <= onset + 0.01 && env->accel.limit >= onset - 0.15,
+             describe(env->accel));
+    QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
+    QVERIFY(env->accel.item_tipped);
+    QVERIFY(env->lateral.item_tipped);
+    for (const Probe& p : env->probes) {
+      if (p.outcome == Outcome::failed) QVERIFY(p.item_tipped);
+    }
+    QVERIFY2(env->result.reason.find("(above it, an item tips over;") != std::string::npos,
+             env->result.reason.c_str());
   }
 
   // The reference system's plain bisection over the whole range (no closed-form seed) finds the

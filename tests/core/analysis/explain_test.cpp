@@ -109,6 +109,24 @@ class ExplainTest : public QObject {
     QVERIFY2(q(s).contains(QStringLiteral("friction alone would hold")), s.c_str());
   }
 
+  // A carton that moved its 5 cm by turning over an edge (detectors.hpp: item_tipped) is said to
+  // have tipped, with its own tipping onset (b/2)/h; the same carton that slid flat, to have slid.
+  void anItemThatTippedIsSaidToTip() {
+    PalletConfig c = test::pallet({test::carton(0.0, 0.0, 0.15, {0.2, 0.2, 1.0}, 20.0)});
+    FailureEvent tipped = failure(FailureMode::top_item_slide, {0}, 0.0502);
+    tipped.item_tilt_deg = 5.6;
+    const std::string s = explain_failure(c, startup(2.5), tipped);
+    QVERIFY2(q(s).startsWith(QStringLiteral("Top item 1 tipped over (0.41 s), turning 5.6 deg")),
+             s.c_str());
+    QVERIFY2(q(s).contains(QStringLiteral("0.25 g is more than the 0.20 g its footprint holds")),
+             s.c_str());
+    QVERIFY2(q(s).endsWith(QStringLiteral("restack it lower or wider.")), s.c_str());
+    FailureEvent slid = tipped;
+    slid.item_tilt_deg = 0.4;
+    const std::string f = explain_failure(c, startup(2.5), slid);
+    QVERIFY2(q(f).startsWith(QStringLiteral("Top item 1 slid 5.0 cm")), f.c_str());
+  }
+
   void bottomItemUsesTheDeckPair() {
     const PalletConfig c = two_high();
     const auto cf = FrictionModel::builtin().for_pallet(c);

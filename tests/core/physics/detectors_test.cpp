@@ -133,6 +133,47 @@ class DetectorsTest : public QObject {
     QCOMPARE(event->items, std::vector<int>{2});
   }
 
+  // A top_item_slide says how the item turned out of level relative to the pallet, so a carton
+  // that tipped over an edge is told from one that slid flat (item_tipped), on a pallet that is
+  // itself yawed and tilted.
+  void anItemThatTipsIsToldFromOneThatSlides() {
+    const Pose pallet{{1.0, 2.0, kPalletZ},
+                      multiply(axis_angle({0, 0, 1}, 30.0), axis_angle({0, 1, 0}, 2.0))};
+    auto in_world = [&](const Vec3& local, const Quat& turn) {
+      const Vec3 r = rotate(pallet.quat, local);
+      return Pose{{pallet.pos[0] + r[0], pallet.pos[1] + r[1], pallet.pos[2] + r[2]},
+                  multiply(pallet.quat, turn)};
+    };
+    // A 0.2 x 0.2 x 1 m carton standing on the deck, its centre 0.5 m up; it turns 6 deg about
+    // its edge at y = +0.1: its centre moves 2 (0.51 m) sin 3 deg = 5.3 cm.
+    const Vec3 rest{0.0, 0.0, 0.5};
+    const Vec3 pivot{0.0, 0.1, 0.0};
+    const Quat turn = axis_angle({1, 0, 0}, 6.0);
+    const Vec3 arm = rotate(turn, Vec3{rest[0] - pivot[0], rest[1] - pivot[1], rest[2] - pivot[2]});
+    const Vec3 tipped_at{pivot[0] + arm[0], pivot[1] + arm[1], pivot[2] + arm[2]};
+    const std::vector<Pose> items0{in_world(rest, {1, 0, 0, 0})};
+    const FailureDetector detector({}, pallet, items0);
+    const std::vector<Pose> tipped{in_world(tipped_at, turn)};
+    const auto event = detector.update(0.5, {0.0, 0.0, 0.0, 0.0}, pallet, tipped);
+    QVERIFY(event);
+    QCOMPARE(event->mode, FailureMode::top_item_slide);
+    QVERIFY2(near(event->item_tilt_deg, 6.0, 1e-9), std::to_string(event->item_tilt_deg).c_str());
+    QVERIFY(item_tipped(*event, {0.2, 0.2, 1.0}));
+    QVERIFY2(describe(*event).find("turning 6.0 deg out of level") != std::string::npos,
+             describe(*event).c_str());
+    // The same carton slid 5.5 cm flat, turning 1 deg about its vertical and 0.5 about X.
+    const std::vector<Pose> slid{in_world(
+        {0.0, 0.055, 0.5}, multiply(axis_angle({0, 0, 1}, 1.0), axis_angle({1, 0, 0}, 0.5)))};
+    const auto flat = detector.update(0.5, {0.0, 0.0, 0.0, 0.0}, pallet, slid);
+    QVERIFY(flat);
+    QCOMPARE(flat->mode, FailureMode::top_item_slide);
+    QVERIFY2(near(flat->item_tilt_deg, 0.5, 1e-6), std::to_string(flat->item_tilt_deg).c_str());
+    QVERIFY(!item_tipped(*flat, {0.2, 0.2, 1.0}));
+    QVERIFY(describe(*flat).find("turning") == std::string::npos);
+    // Only an item's event is told: the pallet's own tilt is tip_over.
+    QVERIFY(!item_tipped(FailureEvent{FailureMode::tip_over, 0.5, 9.0, {}, 0.0}, {1, 1, 1}));
+  }
+
   void loadShift() {
     // 0.7 cm per frame: 1.4 cm at frame 2, 2.1 cm at frame 3 between items 0 and 1.
     const auto event = first_failure(shift(0.007), {});

@@ -30,7 +30,7 @@ pb::Replay replay(double end, bool failed) {
   r.frames.push_back(last);
   if (failed) {
     r.outcome = "failed";
-    r.failure = pb::FailureEvent{pb::FailureMode::top_item_slide, end, 0.0, {0}};
+    r.failure = pb::FailureEvent{pb::FailureMode::top_item_slide, end, 0.0, {0}, 0.0};
   }
   return r;
 }

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+#include "core/analysis/axis_search.hpp"
+
+#include <QtTest>
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <vector>
+
+using namespace pb;
+
+namespace {
+
+// A made-up load: failed(x) decides the verdict, and a safe probe's peak ratio grows linearly
+// from 0 at `calm` to 1 at `edge` (how near it came, as SimResult::peak_ratio reports it).
+struct MadeUp {
+  std::function<bool(double)> failed;
+  double calm = 0.0, edge = 1.0;
+  std::vector<double> probed;
+
+  AxisSearch::ProbeFn fn() {
+    return [this](double x) -> std::optional<ProbeVerdict> {
+      probed.push_back(x);
+      if (failed(x)) return ProbeVerdict{true, FailureMode::top_item_slide, 1.0};
+      const double ratio = std::clamp((x - calm) / (edge - calm), 0.0, 0.999);
+      return ProbeVerdict{false, FailureMode::no_failure, ratio};
+    };
+  }
+};
+
+constexpr double kLo = 0.05, kHi = 0.5, kStep = 0.01;
+
+}  // namespace
+
+class AxisSearchTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  // Monotone failure at 0.3: the limit lies within one step below it, seeded below or above,
+  // vouched or not, and by plain bisection over the range.
+  void monotoneFailureIsBracketedWithinAStep() {
+    for (double seed : {0.12, 0.29, 0.31, 0.45}) {
+      for (bool vouch : {false, true}) {
+        MadeUp load{[](double x) { return x >= 0.3; }, 0.2, 0.3, {}};
+        auto limit = AxisSearch(kLo, kHi, kStep, load.fn(), true, vouch).run(seed);
+        QVERIFY(limit.has_value());
+        QVERIFY2(limit->limit < 0.3 && limit->limit >= 0.3 - kStep - 1e-12,
+                 std::to_string(limit->limit).c_str());
+        QCOMPARE(limit->mode, FailureMode::top_item_slide);
+        QCOMPARE(limit->probes, int(load.probed.size()));
+      }
+    }
+    MadeUp plain{[](double x) { return x >= 0.3; }, 0.0, 1.0, {}};
+    auto limit = AxisSearch(kLo, kHi, kStep, plain.fn(), false).run(0.0);
+    QVERIFY(limit && limit->limit < 0.3 && limit->limit >= 0.3 - kStep);
+  }
+
+  // A seed that came near failing vouches for nothing below it: where the load also fails a step
+  // below its safe seed (failure not monotone there, as on u2048's curve), the vouched search
+  // finds that failure and walks down from it; the unvouched one answers the seed, unsafe.
+  void aSafeSeedNearFailingIsCheckedBelow() {
+    auto island = [](double x) { return x >= 0.28 && !(x > 0.295 && x < 0.301); };
+    MadeUp trusting{island, 0.2, 0.3, {}};
+    auto unsafe = AxisSearch(kLo, kHi, kStep, trusting.fn(), true, false).run(0.298);
+    QVERIFY(unsafe && std::abs(unsafe->limit - 0.298) < 1e-12);
+
+    MadeUp checking{island, 0.2, 0.3, {}};
+    auto limit = AxisSearch(kLo, kHi, kStep, checking.fn(), true, true).run(0.298);
+    QVERIFY(limit.has_value());
+    QVERIFY2(limit->limit < 0.28 && limit->limit >= 0.28 - kStep - 1e-12,
+             std::to_string(limit->limit).c_str());
+    QVERIFY(!limit->at_floor && !limit->at_ceiling);
+    QCOMPARE(checking.probed[0], 0.298);
+    QCOMPARE(checking.probed[1], 0.298 - kStep);  // the check below the seed
+  }
+
+  // The check goes down only while the safe probes stay near failing: one safe by a margin
+  // (peak ratio below 0.5) ends it, and a seed that stayed far from failing is not checked.
+  void theCheckStopsAtAProbeSafeByAMargin() {
+    MadeUp load{[](double x) { return x >= 0.3; }, 0.27, 0.3, {}};  // ratio 0.5 at 0.285
+    auto limit = AxisSearch(kLo, kHi, kStep, load.fn(), true, true).run(0.298);
+    QVERIFY(limit.has_value());
+    // 0.298 (ratio 0.93), 0.288 (0.6), 0.278 (0.27: a margin), then up from the seed.
+    QVERIFY(load.probed.size() >= 4);
+    QCOMPARE(load.probed[1], 0.298 - kStep);
+    QCOMPARE(load.probed[2], 0.298 - 2 * kStep);
+    for (std::size_t i = 3; i < load.probed.size(); ++i) QVERIFY(load.probed[i] > 0.298);
+    QVERIFY(std::abs(limit->limit - 0.298) < 1e-12);
+
+    MadeUp calm{[](double x) { return x >= 0.3; }, 0.29, 0.5, {}};
+    auto far = AxisSearch(kLo, kHi, kStep, calm.fn(), true, true).run(0.2);
+    QVERIFY(far.has_value());
+    for (double x : calm.probed) QVERIFY2(x >= 0.2, std::to_string(x).c_str());
+  }
+
+  // A seed at the bottom of the range has nothing below it to check.
+  void aSeedAtTheFloorIsNotCheckedBelow() {
+    MadeUp load{[](double x) { return x >= 0.06; }, 0.0, 0.06, {}};
+    auto limit = AxisSearch(kLo, kHi, kStep, load.fn(), true, true).run(kLo);
+    QVERIFY(limit.has_value());
+    QCOMPARE(load.probed.front(), kLo);
+    for (double x : load.probed) QVERIFY(x >= kLo);
+    QVERIFY(limit->limit >= kLo && limit->limit < 0.06);
+  }
+
+  // An unstable probe ends the search without a verdict, in the check below the seed too.
+  void anUnstableCheckGivesNoLimit() {
+    int calls = 0;
+    auto probe = [&](double) -> std::optional<ProbeVerdict> {
+      if (++calls == 1) return ProbeVerdict{false, FailureMode::no_failure, 0.9};
+      return std::nullopt;
+    };
+    QVERIFY(!AxisSearch(kLo, kHi, kStep, probe, true, true).run(0.3).has_value());
+    QCOMPARE(calls, 2);
+  }
+};
+
+QTEST_APPLESS_MAIN(AxisSearchTest)
+#include "axis_search_test.moc"
