@@ -329,11 +329,11 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     return a;
   };
 
-  auto get = [this](std::string pattern, auto handler) {
-    routes_.push_back({"GET", std::move(pattern), handler});
+  auto get = [this](std::string pattern, auto handler, std::vector<std::string> query = {}) {
+    routes_.push_back({"GET", std::move(pattern), handler, std::move(query)});
   };
-  auto post = [this](std::string pattern, auto handler) {
-    routes_.push_back({"POST", std::move(pattern), handler});
+  auto post = [this](std::string pattern, auto handler, std::vector<std::string> query = {}) {
+    routes_.push_back({"POST", std::move(pattern), handler, std::move(query)});
   };
 
   get("/", [this](const Request&, const Params&) {
@@ -395,42 +395,46 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   get("/friction/pairs", [](const Request&, const Params&) {
     return json_response(200, FrictionModel::builtin().pair_keys());
   });
-  get("/friction", [pair_param](const Request& request, const Params&) {
-    auto pair = pair_param(request);
-    if (holds_response(pair)) return std::get<Response>(pair);
-    auto t = number_param(request, "temp_c", std::nullopt, kMinTempC, kMaxTempC);
-    if (holds_response(t)) return std::get<Response>(t);
-    auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
-    if (holds_response(since)) return std::get<Response>(since);
-    const auto value = FrictionModel::builtin().effective(
-        std::get<std::string>(pair), std::get<double>(t), std::get<double>(since));
-    return json_response(200, friction_point_json(std::get<double>(t), *value));
-  });
-  get("/friction/curve", [pair_param](const Request& request, const Params&) {
-    auto pair = pair_param(request);
-    if (holds_response(pair)) return std::get<Response>(pair);
-    auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
-    auto t_min = number_param(request, "t_min", -30.0, kMinTempC, kMaxTempC);
-    auto t_max = number_param(request, "t_max", 25.0, kMinTempC, kMaxTempC);
-    auto n = number_param(request, "n", 56.0, 2.0, 500.0, true);
-    for (const auto* v : {&since, &t_min, &t_max, &n}) {
-      if (holds_response(*v)) return std::get<Response>(*v);
-    }
-    const double lo = std::get<double>(t_min), hi = std::get<double>(t_max);
-    const int count = int(std::get<double>(n));
-    if (hi < lo) return error_response(422, "t_max must not be below t_min");
-    const std::string& key = std::get<std::string>(pair);
-    Json points = Json::array();
-    for (int i = 0; i < count; ++i) {
-      const double t = lo + i * (hi - lo) / (count - 1);
-      points.push_back(friction_point_json(
-          t, *FrictionModel::builtin().effective(key, t, std::get<double>(since))));
-    }
-    const auto slash = key.find('/');
-    return json_response(200, {{"surface_pair", {key.substr(0, slash), key.substr(slash + 1)}},
-                               {"seconds_since_temp_change", std::get<double>(since)},
-                               {"points", std::move(points)}});
-  });
+  get("/friction",
+      [pair_param](const Request& request, const Params&) {
+        auto pair = pair_param(request);
+        if (holds_response(pair)) return std::get<Response>(pair);
+        auto t = number_param(request, "temp_c", std::nullopt, kMinTempC, kMaxTempC);
+        if (holds_response(t)) return std::get<Response>(t);
+        auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
+        if (holds_response(since)) return std::get<Response>(since);
+        const auto value = FrictionModel::builtin().effective(
+            std::get<std::string>(pair), std::get<double>(t), std::get<double>(since));
+        return json_response(200, friction_point_json(std::get<double>(t), *value));
+      },
+      {"pair", "temp_c", "seconds_since_temp_change"});
+  get("/friction/curve",
+      [pair_param](const Request& request, const Params&) {
+        auto pair = pair_param(request);
+        if (holds_response(pair)) return std::get<Response>(pair);
+        auto since = number_param(request, "seconds_since_temp_change", 3600.0, 0.0, 1e9);
+        auto t_min = number_param(request, "t_min", -30.0, kMinTempC, kMaxTempC);
+        auto t_max = number_param(request, "t_max", 25.0, kMinTempC, kMaxTempC);
+        auto n = number_param(request, "n", 56.0, 2.0, 500.0, true);
+        for (const auto* v : {&since, &t_min, &t_max, &n}) {
+          if (holds_response(*v)) return std::get<Response>(*v);
+        }
+        const double lo = std::get<double>(t_min), hi = std::get<double>(t_max);
+        const int count = int(std::get<double>(n));
+        if (hi < lo) return error_response(422, "t_max must not be below t_min");
+        const std::string& key = std::get<std::string>(pair);
+        Json points = Json::array();
+        for (int i = 0; i < count; ++i) {
+          const double t = lo + i * (hi - lo) / (count - 1);
+          points.push_back(friction_point_json(
+              t, *FrictionModel::builtin().effective(key, t, std::get<double>(since))));
+        }
+        const auto slash = key.find('/');
+        return json_response(200, {{"surface_pair", {key.substr(0, slash), key.substr(slash + 1)}},
+                                   {"seconds_since_temp_change", std::get<double>(since)},
+                                   {"points", std::move(points)}});
+      },
+      {"pair", "seconds_since_temp_change", "t_min", "t_max", "n"});
 
   // -- pallets --
   post("/pallet/random", [](const Request& request, const Params&) {
@@ -514,29 +518,31 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     return json_response(
         200, {{"valid", false}, {"errors", refused["errors"]}, {"warnings", Json::array()}});
   });
-  post("/mjcf/build", [max_items](const Request& request, const Params&) {
-    auto body = parse_body(request);
-    if (holds_response(body)) return std::get<Response>(body);
-    auto pallet = read_pallet(std::get<Json>(body), "", max_items);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
-    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
-    Json out;
-    if (auto it = request.query.find("surface_pair"); it != request.query.end()) {
-      if (FrictionModel::builtin().find(it->second) == nullptr) {
-        return error_response(422,
-                              "surface_pair is '" + it->second + "'; use one of " + known_pairs());
-      }
-      out["note"] =
-          "surface_pair is not used: each contact's friction pair follows from the "
-          "pallet (its base type, the items' material and temperature)";
-    }
-    auto scene = build_scene(config);
-    if (!scene) return core_failure(scene.diagnostics, "");
-    out["pallet_id"] = config.pallet_id;
-    out["mjcf_xml"] = scene->mjcf;
-    out["bytes"] = scene->mjcf.size();
-    return json_response(200, out);
-  });
+  post("/mjcf/build",
+       [max_items](const Request& request, const Params&) {
+         auto body = parse_body(request);
+         if (holds_response(body)) return std::get<Response>(body);
+         auto pallet = read_pallet(std::get<Json>(body), "", max_items);
+         if (holds_response(pallet)) return std::get<Response>(pallet);
+         const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+         Json out;
+         if (auto it = request.query.find("surface_pair"); it != request.query.end()) {
+           if (FrictionModel::builtin().find(it->second) == nullptr) {
+             return error_response(
+                 422, "surface_pair is '" + it->second + "'; use one of " + known_pairs());
+           }
+           out["note"] =
+               "surface_pair is not used: each contact's friction pair follows from the "
+               "pallet (its base type, the items' material and temperature)";
+         }
+         auto scene = build_scene(config);
+         if (!scene) return core_failure(scene.diagnostics, "");
+         out["pallet_id"] = config.pallet_id;
+         out["mjcf_xml"] = scene->mjcf;
+         out["bytes"] = scene->mjcf.size();
+         return json_response(200, out);
+       },
+       {"surface_pair"});
 
   // -- physics --
   auto solve = [this, max_items, ticket_for, &ao](const Request& request, bool reference) {
@@ -922,6 +928,28 @@ bool simple_form(std::string_view content_type) {
 
 }  // namespace
 
+// A query parameter the route does not read (a misspelt one would silently leave its default in
+// force), or one given twice (which would win?), is a 422 naming it.
+std::optional<Response> Service::query_problem(const Request& request, const Route& route) {
+  for (auto it = request.query.begin(); it != request.query.end();
+       it = request.query.upper_bound(it->first)) {
+    const std::string& key = it->first;
+    const std::string where = route.method + " " + route.pattern;
+    if (std::find(route.query.begin(), route.query.end(), key) == route.query.end()) {
+      std::string reads;
+      for (const auto& q : route.query) reads += (reads.empty() ? "" : ", ") + q;
+      return error_response(422, "the query parameter '" + key + "' is not read by " + where +
+                                     (reads.empty() ? "; it takes none" : "; it reads " + reads) +
+                                     ": remove it or fix its name");
+    }
+    if (const auto n = request.query.count(key); n > 1) {
+      return error_response(422, "the query parameter '" + key + "' is given " + std::to_string(n) +
+                                     " times; give it once");
+    }
+  }
+  return std::nullopt;
+}
+
 Response Service::dispatch(const Request& request, std::string& route) {
   std::vector<std::string> allowed;
   for (const auto& r : routes_) {
@@ -937,6 +965,8 @@ Response Service::dispatch(const Request& request, std::string& route) {
                                      "'; send JSON with the header content-type: "
                                      "application/json");
     }
+    // After the 415: the HTTP layer files a form body's fields among the query parameters.
+    if (auto refused = query_problem(request, r)) return *refused;
     return r.handler(request, params);
   }
   if (!allowed.empty()) {

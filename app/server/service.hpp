@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,8 +63,11 @@ class Service {
     std::string method;
     std::string pattern;  ///< "/scenarios/{slug}": a {name} segment matches any one segment
     std::function<Response(const Request&, const Params&)> handler;
+    /// The query parameters the route reads; any other, or one given twice, is refused.
+    std::vector<std::string> query = {};
   };
   Response dispatch(const Request& request, std::string& route);
+  static std::optional<Response> query_problem(const Request& request, const Route& route);
 
   ServiceOptions options_;
   AnalysisPool pool_;

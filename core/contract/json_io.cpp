@@ -6,13 +6,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <optional>
+#include <set>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "core/contract/json_reader.hpp"
 #include "core/contract/pallet_metrics.hpp"
 
 namespace pb {
@@ -334,6 +337,58 @@ std::string ascii(std::string_view message) {
   return out;
 }
 
+// Finds the first key that appears twice in one object, as a JSON pointer to it: readers
+// disagree on which of the two wins (nlohmann keeps the last), so a document that repeats one
+// says two things and is refused rather than read one way.
+class DuplicateKeys {
+ public:
+  bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        frames_.push_back({event == E::object_start, {}, {}, 0});
+        break;
+      case E::key: {
+        Frame& f = frames_.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second && !duplicate_) duplicate_ = pointer();
+        break;
+      }
+      case E::object_end:
+      case E::array_end:
+        frames_.pop_back();
+        element_done();
+        break;
+      case E::value:
+        element_done();
+        break;
+    }
+    return true;
+  }
+  const std::optional<std::string>& duplicate() const { return duplicate_; }
+
+ private:
+  struct Frame {
+    bool object = true;
+    std::set<std::string> keys;
+    std::string key;        // the member being read (objects)
+    std::size_t index = 0;  // the element being read (arrays)
+  };
+  void element_done() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+  }
+  std::string pointer() const {
+    std::string out;
+    for (const Frame& f : frames_) {
+      out = f.object ? member_pointer(out, f.key) : element_pointer(out, f.index);
+    }
+    return out;
+  }
+  std::vector<Frame> frames_;
+  std::optional<std::string> duplicate_;
+};
+
 }  // namespace
 
 Result<Json> parse_json(std::string_view text) {
@@ -344,11 +399,29 @@ Result<Json> parse_json(std::string_view text) {
                 "this is the file you meant");
   }
   try {
-    return Result<Json>{Json::parse(text), {}};
+    DuplicateKeys duplicates;
+    Json json = Json::parse(text, std::ref(duplicates));
+    if (const auto& at = duplicates.duplicate()) {
+      return Result<Json>::failure(*at,
+                                   "this member appears twice in its object; keep one (a "
+                                   "reader may take either)");
+    }
+    return Result<Json>{std::move(json), {}};
   } catch (const Json::parse_error& e) {
+    if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+      return Result<Json>::failure("",
+                                   "the document is empty; send the pallet as a JSON object, "
+                                   "{\"items\": [...], ...}");
+    }
+    // nlohmann's "[json.exception.parse_error.101] parse error at line 1, column 9: syntax error
+    // while parsing value - ...": the position in words, then what it found.
+    std::string detail = ascii(e.what());
+    if (const auto at = detail.find("parse error at "); at != std::string::npos) {
+      detail = detail.substr(at + 15);
+    }
     return Result<Json>::failure("", "the text is not valid JSON at byte " +
-                                         std::to_string(e.byte) + " (" + ascii(e.what()) +
-                                         "); fix the syntax there");
+                                         std::to_string(e.byte) + ", " + detail +
+                                         "; fix the syntax there");
   } catch (const Json::exception& e) {
     return Result<Json>::failure(
         "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");

@@ -235,7 +235,8 @@ const Json* JsonReader::member(const Json& object, const std::string& pointer, s
     const auto it = object.find(key);
     if (it != object.end()) return &*it;
   }
-  if (need == Need::required) error(pointer, wording::missing_key(key));
+  // At the member's own pointer, so that a form can mark the field that is missing.
+  if (need == Need::required) error(member_pointer(pointer, key), wording::missing_key(key));
   return nullptr;
 }
 

@@ -78,6 +78,33 @@ class Checker {
   ValidationLimits limits_;
 };
 
+// The friction follows body_temp_c; `env` says what kind of load it is. A frozen load at +20 degC
+// or a thawed one at -20 is a sign that one of them is wrong, and the answer rides on the
+// temperature: say so (a warning: a load can be anything in transition).
+void check_env_temperature(Checker& c, const PalletConfig& config) {
+  const double t = config.body_temp_c;
+  std::string expected;
+  switch (config.env) {
+    case Environment::frozen:
+      if (t > -5.0) expected = "at or below -5 degC";
+      break;
+    case Environment::refrigerated:
+      if (t < -5.0 || t > 10.0) expected = "between -5 and 10 degC";
+      break;
+    case Environment::thawed:
+      if (t < 0.0) expected = "above 0 degC";
+      break;
+    case Environment::transitioning:
+      break;
+  }
+  if (expected.empty()) return;
+  c.warning("/body_temp_c",
+            short_number(t) + " degC is unusual for env '" + std::string(to_string(config.env)) +
+                "' (" + expected +
+                "); friction follows body_temp_c: check it, or env (\"transitioning\" "
+                "for a load warming or cooling)");
+}
+
 // Pallet-level fields. Returns whether the base is usable for the physical rules.
 bool check_base(Checker& c, const PalletConfig& config) {
   if (config.pallet_id.empty()) {
@@ -105,8 +132,10 @@ bool check_base(Checker& c, const PalletConfig& config) {
     }
   }
   c.in_range("/base_mass_kg", "base_mass_kg", config.base_mass_kg, {0.0, 100.0, true}, "kg");
-  c.in_range("/body_temp_c", "body_temp_c", config.body_temp_c, {kMinTempC, kMaxTempC, false},
-             "degC");
+  if (c.in_range("/body_temp_c", "body_temp_c", config.body_temp_c, {kMinTempC, kMaxTempC, false},
+                 "degC")) {
+    check_env_temperature(c, config);
+  }
   c.in_range("/seconds_since_temp_change", "seconds_since_temp_change",
              config.seconds_since_temp_change, {0.0, std::numeric_limits<double>::max(), false},
              "s");

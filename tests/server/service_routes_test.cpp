@@ -348,6 +348,22 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(empty->status, 422);
     QCOMPARE(body_of(empty)["errors"][0]["pointer"], "/speeds_mps");
     QCOMPARE(client_->Get("/friction/curve?pair=carton/carton&n=2.7")->status, 422);
+    // A query parameter the route does not read (a misspelt one would leave its default in
+    // force), or one given twice, is refused with its name.
+    auto misspelt = client_->Get("/friction/curve?pair=carton/carton&count=5");
+    QCOMPARE(misspelt->status, 422);
+    const std::string why = body_of(misspelt)["detail"];
+    QVERIFY2(why.find("'count' is not read by GET /friction/curve") != std::string::npos &&
+                 why.find("t_min, t_max, n") != std::string::npos,
+             why.c_str());
+    auto twice = client_->Get("/friction?temp_c=-20&temp_c=5");
+    QCOMPARE(twice->status, 422);
+    QVERIFY(body_of(twice)["detail"].get<std::string>().find("'temp_c' is given 2 times") !=
+            std::string::npos);
+    QVERIFY(!body_of(twice)["errors"].empty());
+    auto none = client_->Get("/healthz?verbose=1");
+    QCOMPARE(none->status, 422);
+    QVERIFY(body_of(none)["detail"].get<std::string>().find("it takes none") != std::string::npos);
     for (const char* type : {"text/plain", "application/x-www-form-urlencoded; charset=utf-8"}) {
       auto form = client_->Post("/v1/validate", pallet, type);
       QCOMPARE(form->status, 415);

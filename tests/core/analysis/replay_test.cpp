@@ -267,8 +267,8 @@ class ReplayTest : public QObject {
       QTest::newRow(name) << QString(patch) << QString(pointer);
     };
     row("not an object", R"({"op": "replace", "path": "", "value": []})", "");
-    row("no frames", R"({"op": "remove", "path": "/frames"})", "");
-    row("no failure key", R"({"op": "remove", "path": "/failure"})", "");
+    row("no frames", R"({"op": "remove", "path": "/frames"})", "/frames");
+    row("no failure key", R"({"op": "remove", "path": "/failure"})", "/failure");
     row("newer schema", R"({"op": "replace", "path": "/schema_version", "value": 2})",
         "/schema_version");
     row("schema text", R"({"op": "replace", "path": "/schema_version", "value": "1"})",
@@ -286,7 +286,7 @@ class ReplayTest : public QObject {
     row("failure not object", R"({"op": "replace", "path": "/failure", "value": "x"})", "/failure");
     row("failure mode none", R"({"op": "replace", "path": "/failure/mode", "value": "no_failure"})",
         "/failure/mode");
-    row("failure mode missing", R"({"op": "remove", "path": "/failure/mode"})", "/failure");
+    row("failure mode missing", R"({"op": "remove", "path": "/failure/mode"})", "/failure/mode");
     row("failure time", R"({"op": "replace", "path": "/failure/time_s", "value": "late"})",
         "/failure/time_s");
     row("failure value", R"({"op": "replace", "path": "/failure/value", "value": null})",
@@ -307,7 +307,7 @@ class ReplayTest : public QObject {
     row("hz text", R"({"op": "replace", "path": "/hz", "value": "30"})", "/hz");
     row("frames not array", R"({"op": "replace", "path": "/frames", "value": {}})", "/frames");
     row("frame not object", R"({"op": "replace", "path": "/frames/2", "value": 0.1})", "/frames/2");
-    row("frame without t", R"({"op": "remove", "path": "/frames/1/t"})", "/frames/1");
+    row("frame without t", R"({"op": "remove", "path": "/frames/1/t"})", "/frames/1/t");
     row("t not number", R"({"op": "replace", "path": "/frames/1/t", "value": "0.03"})",
         "/frames/1/t");
     row("belt length", R"({"op": "add", "path": "/frames/1/belt/-", "value": 0})",

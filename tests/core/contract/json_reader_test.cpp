@@ -166,8 +166,8 @@ class JsonReaderTest : public QObject {
     QVERIFY(reader.member(object, "/p", "c", Need::optional) == nullptr);
     QVERIFY(reader.member(Json(3), "/q", "d", Need::required) == nullptr);  // not an object
     QCOMPARE(describe(reader.diagnostics),
-             QStringLiteral("/p: the required key 'b' is missing; add it; "
-                            "/q: the required key 'd' is missing; add it"));
+             QStringLiteral("/p/b: the required key 'b' is missing; add it; "
+                            "/q/d: the required key 'd' is missing; add it"));
   }
 
   void nestedPointers() {

@@ -128,7 +128,7 @@ class SafetyResultTest : public QObject {
     const auto read = safety_result_from_json(json, "/result");
     QVERIFY(!read.ok());
     QCOMPARE(read.diagnostics.size(), std::size_t{1});
-    QCOMPARE(read.diagnostics[0].pointer, std::string("/result"));
+    QCOMPARE(read.diagnostics[0].pointer, std::string("/result/margin_pct"));
     QVERIFY(read.diagnostics[0].message.find("'margin_pct'") != std::string::npos);
   }
 

@@ -337,7 +337,7 @@ class FrictionTest : public QObject {
     };
     cases.push_back({"syntax error", R"({"surface_pairs": {)", ""});
     cases.push_back({"not an object", "[1, 2]", ""});
-    mutate("no surface_pairs", "", [](Json& t) { t.erase("surface_pairs"); });
+    mutate("no surface_pairs", "/surface_pairs", [](Json& t) { t.erase("surface_pairs"); });
     mutate("surface_pairs array", "/surface_pairs", [](Json& t) { t["surface_pairs"] = {1}; });
     mutate("key without slash", "/surface_pairs/cartoncarton", [](Json& t) {
       t["surface_pairs"]["cartoncarton"] = t["surface_pairs"]["carton/carton"];
@@ -351,11 +351,11 @@ class FrictionTest : public QObject {
            [](Json& t) { t["surface_pairs"]["carton/carton"] = 0.4; });
     mutate("description not a string", "/surface_pairs/carton~1carton/description",
            [](Json& t) { t["surface_pairs"]["carton/carton"]["description"] = 3; });
-    mutate("no control points", "/surface_pairs/carton~1carton",
+    mutate("no control points", "/surface_pairs/carton~1carton/control_points",
            [](Json& t) { t["surface_pairs"]["carton/carton"].erase("control_points"); });
     mutate("empty control points", pts, [](Json& t) { points_of(t) = Json::array(); });
     mutate("point not an object", pts + "/0", [](Json& t) { points_of(t)[0] = 0.4; });
-    mutate("missing mu_s", pts + "/1", [](Json& t) { points_of(t)[1].erase("mu_s"); });
+    mutate("missing mu_s", pts + "/1/mu_s", [](Json& t) { points_of(t)[1].erase("mu_s"); });
     mutate("mu_s a string", pts + "/2/mu_s", [](Json& t) { points_of(t)[2]["mu_s"] = "0.4"; });
     mutate("mu_s above 2", pts + "/2/mu_s", [](Json& t) { points_of(t)[2]["mu_s"] = 2.5; });
     mutate("mu_d negative", pts + "/0/mu_d", [](Json& t) { points_of(t)[0]["mu_d"] = -0.1; });
@@ -364,7 +364,7 @@ class FrictionTest : public QObject {
            [](Json& t) { points_of(t)[1]["temp_c"] = -10.0; });
     mutate("temp_c decreasing", pts + "/2/temp_c",
            [](Json& t) { points_of(t)[2]["temp_c"] = -5.0; });
-    mutate("temp_c missing", pts + "/0", [](Json& t) { points_of(t)[0].erase("temp_c"); });
+    mutate("temp_c missing", pts + "/0/temp_c", [](Json& t) { points_of(t)[0].erase("temp_c"); });
     mutate("penalty not an object", "/transition_penalty",
            [](Json& t) { t["transition_penalty"] = Json::array(); });
     mutate("zone reversed", "/transition_penalty/danger_zone_temp_c", [](Json& t) {
@@ -381,7 +381,7 @@ class FrictionTest : public QObject {
            [](Json& t) { t["transition_penalty"]["min_multiplier"] = 1.2; });
     mutate("recovery 0", "/transition_penalty/recovery_seconds",
            [](Json& t) { t["transition_penalty"]["recovery_seconds"] = 0.0; });
-    mutate("recovery missing", "/transition_penalty",
+    mutate("recovery missing", "/transition_penalty/recovery_seconds",
            [](Json& t) { t["transition_penalty"].erase("recovery_seconds"); });
 
     for (const Case& c : cases) {

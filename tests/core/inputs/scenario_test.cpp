@@ -89,7 +89,7 @@ class ScenarioTest : public QObject {
     QVERIFY(!s.ok());
     bool slug = false, wrap = false;
     for (const auto& d : s.diagnostics) {
-      slug = slug || (d.pointer.empty() && d.message.find("'slug'") != std::string::npos);
+      slug = slug || (d.pointer == "/slug" && d.message.find("'slug'") != std::string::npos);
       wrap = wrap || d.pointer == "/pallet/wrap";
     }
     QVERIFY(slug);

@@ -119,8 +119,39 @@ class ValidationTest : public QObject {
       config.body_temp_c = bad;
       EXPECT_ONE(validate(config), "/body_temp_c", Severity::error);
     }
+    config.env = Environment::frozen;
     config.body_temp_c = -40.0;
     QVERIFY(validate(config).empty());
+  }
+
+  // The friction follows body_temp_c; an env that disagrees with it (a frozen load at +20 degC) is
+  // a sign that one of them is wrong: a warning at /body_temp_c naming both.
+  void envAndTemperatureThatDisagreeAreWarned() {
+    PalletConfig config = valid();
+    struct Case {
+      Environment env;
+      double temp_c;
+      bool warned;
+    };
+    for (const Case& c :
+         {Case{Environment::frozen, 20.0, true}, Case{Environment::frozen, -4.0, true},
+          Case{Environment::frozen, -18.0, false}, Case{Environment::refrigerated, -20.0, true},
+          Case{Environment::refrigerated, 12.0, true}, Case{Environment::refrigerated, 2.0, false},
+          Case{Environment::thawed, -30.0, true}, Case{Environment::thawed, 18.0, false},
+          Case{Environment::transitioning, -30.0, false},
+          Case{Environment::transitioning, 30.0, false}}) {
+      config.env = c.env;
+      config.body_temp_c = c.temp_c;
+      const Diagnostics d = validate(config);
+      if (!c.warned) {
+        QVERIFY2(d.empty(), qPrintable(describe(d)));
+        continue;
+      }
+      EXPECT_ONE(d, "/body_temp_c", Severity::warning);
+      QVERIFY2(
+          d[0].message.find("env '" + std::string(to_string(c.env)) + "'") != std::string::npos,
+          d[0].message.c_str());
+    }
   }
 
   void secondsSinceTemperatureChange() {

@@ -345,7 +345,7 @@ class TestPalletDocument : public QObject {
     QTest::newRow("syntax") << QByteArray("{\"items\": [") << QString();
     QTest::newRow("not an object") << QByteArray("[1, 2]") << QStringLiteral("");
     QTest::newRow("missing items") << QByteArray(R"({"env": "frozen", "body_temp_c": -20})")
-                                   << QStringLiteral("(document): the required key 'items'");
+                                   << QStringLiteral("/items: the required key 'items'");
     QTest::newRow("wrong type") << QByteArray(R"({"items": [], "env": "frozen",
         "body_temp_c": "cold"})")
                                 << QStringLiteral("/body_temp_c: ");
