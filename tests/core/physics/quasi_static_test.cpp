@@ -3,6 +3,7 @@
 
 #include <QtTest>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -97,6 +98,12 @@ class QuasiStaticTest : public QObject {
     QTest::newRow("yaw 90") << 90.0 << 0.0 << 0.15 << 0.2;
     QTest::newRow("yaw -90") << -90.0 << 0.0 << 0.15 << 0.2;
     QTest::newRow("yaw 180") << 180.0 << 0.0 << 0.2 << 0.15;
+    // A yawed footprint tips about the edge its centre's line of action crosses first, nearer
+    // than its bounding box (0.248 m along X at 30 deg): 0.2 / cos 30 along, 0.15 / cos 30 across.
+    QTest::newRow("yaw 30") << 30.0 << 0.0 << 0.2 / std::cos(std::numbers::pi / 6.0)
+                            << 0.15 / std::cos(std::numbers::pi / 6.0);
+    QTest::newRow("yaw 60") << 60.0 << 0.0 << 0.15 / std::cos(std::numbers::pi / 6.0)
+                            << 0.2 / std::cos(std::numbers::pi / 6.0);
   }
   void singleCartonSlipsAndTips() {
     QFETCH(double, yaw);
