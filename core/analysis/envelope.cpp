@@ -209,7 +209,9 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
 }
 
 namespace {
-void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s);
+// The SafetyResult from the four axes; `predicted`: no simulation ran (the closed-form level).
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s,
+               bool predicted = false);
 void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
 }  // namespace
 
@@ -826,7 +828,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
 
 namespace {
 
-void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s) {
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s, bool predicted) {
   SafetyResult& r = env.result;
   r.line_estop_decel_mps2 = line.estop_decel_mps2;
   r.line_curve_radius_m = line.curve_radius_m;
@@ -891,16 +893,19 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     std::ostringstream why;
     const std::string governed = (r.speed_governed_by == SpeedGovernor::ceiling ? "" : "set by ") +
                                  std::string(governor_words(r.speed_governed_by));
-    // The accelerations were measured on start-ups to, and stops from, the top of the speed
-    // range (the probes); the speed limit is the line's, after them.
-    why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2"
-        << (env.accel.at_ceiling
-                ? " (the top of the range"
-                : " (above it, " + std::string(mode_words(r.accel_mode, env.accel.item_tipped)))
-        << "; measured ramping to " << fixed(s.speed_max_mps, 1) << " m/s); stops at up to "
-        << fixed(r.max_decel_mps2, 1) << " m/s^2 (from " << fixed(s.speed_max_mps, 1)
-        << " m/s); curves up to " << fixed(r.max_lateral_g, 2) << " g. Top speed "
-        << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
+    // The accelerations were measured (or, at the closed-form level, predicted) on start-ups
+    // to, and stops from, the top of the speed range (the probes); the speed limit is the
+    // line's, after them. Each axis says what fails above it.
+    auto above = [](const AxisLimit& a) {
+      return a.at_ceiling ? std::string("the top of the range")
+                          : "above it, " + std::string(mode_words(a.mode, a.item_tipped));
+    };
+    why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2 (" << above(env.accel)
+        << "; " << (predicted ? "predicted, not simulated, for" : "measured") << " ramping to "
+        << fixed(s.speed_max_mps, 1) << " m/s); stops at up to " << fixed(r.max_decel_mps2, 1)
+        << " m/s^2 (from " << fixed(s.speed_max_mps, 1) << " m/s; " << above(env.decel)
+        << "); curves up to " << fixed(r.max_lateral_g, 2) << " g (" << above(env.lateral)
+        << "). Top speed " << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
         << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
         << " m curves).";
     r.reason = why.str();
@@ -958,7 +963,7 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   }
   env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
                                s.speed_precision_mps);
-  summarise(env, line, s);
+  summarise(env, line, s, /*predicted=*/true);
   stamp_sims_and_time(env, start);
   env.result.fidelity = Fidelity::closed_form;
   return env;

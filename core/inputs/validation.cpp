@@ -473,6 +473,11 @@ Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits,
                           "(whole cases or layers) or split it over several pallets");
     return c.out;
   }
+  if (config.items.empty()) {
+    c.warning("/items",
+              "the pallet carries no items: its limits are the empty base's; add the "
+              "load if this was not meant");
+  }
   const bool base_ok = check_base(c, config);
   const Catalog& skus = catalog != nullptr ? *catalog : Catalog::builtin();
   std::vector<bool> usable(config.items.size());

@@ -283,8 +283,18 @@ class EnvelopeTest : public QObject {
     for (const Probe& p : env->probes) {
       if (p.outcome == Outcome::failed) QVERIFY(p.item_tipped);
     }
-    QVERIFY2(env->result.reason.find("(above it, an item tips over;") != std::string::npos,
-             env->result.reason.c_str());
+    const std::string& why = env->result.reason;
+    QVERIFY2(why.find("(above it, an item tips over;") != std::string::npos, why.c_str());
+    // Each axis says what fails above it; only the closed-form level says it was not simulated.
+    QVERIFY2(why.find("m/s; above it, an item tips over); curves up to 0.2") != std::string::npos,
+             why.c_str());
+    QVERIFY2(why.find("g (above it, an item tips over). Top speed") != std::string::npos,
+             why.c_str());
+    QVERIFY(why.find("predicted") == std::string::npos);
+    const Envelope predicted = closed_form_envelope(s->bounds, line_, search_, {});
+    QVERIFY2(
+        predicted.result.reason.find("predicted, not simulated, for ramping") != std::string::npos,
+        predicted.result.reason.c_str());
   }
 
   // The reference system's plain bisection over the whole range (no closed-form seed) finds the
