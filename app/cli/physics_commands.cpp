@@ -575,8 +575,9 @@ std::vector<Command> physics_commands() {
           enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "
                                      "agreement with the full model is established)"},
          {"parallel-probes", "K",
-          "probes per search round (k-section, batched on K threads; same limits); 1 = serial "
-          "bisection (default), 0 = one per CPU"},
+          "probes per search round (k-section, batched on K threads; the same limits where "
+          "failure is monotone in the demand, which a load that rocks near its limit need not "
+          "be); 1 = serial bisection (default), 0 = one per CPU"},
          {"confirm-limits", "",
           "run each limit found safe once more along another numerical path (the constraint "
           "solve warm-started differently); where that run fails, the load's fate hangs on "
