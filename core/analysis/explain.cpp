@@ -49,12 +49,15 @@ std::string item_name(const PalletConfig& config, int index) {
   return (is_top ? "top item " : "item ") + std::to_string(index + 1);
 }
 
-/// The weakest quasi-static mechanism of `mode` (and `item`, if >= 0) in the profile's direction.
+/// The weakest quasi-static mechanism of `mode` (and `item`, if >= 0; `mechanism`, if given) in
+/// the profile's direction.
 std::optional<QuasiStaticLimit> weakest_of(const QuasiStaticBounds& bounds, bool across,
-                                           FailureMode mode, int item) {
+                                           FailureMode mode, int item,
+                                           std::optional<Mechanism> mechanism = std::nullopt) {
   std::optional<QuasiStaticLimit> best;
   for (const auto& l : across ? bounds.across : bounds.along) {
     if (l.mode != mode || (item >= 0 && l.item != item)) continue;
+    if (mechanism && l.mechanism != *mechanism) continue;
     if (!best || l.accel_mps2 < best->accel_mps2) best = l;
   }
   return best;
@@ -171,14 +174,8 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
       const bool tipped = item >= 0 && item < static_cast<int>(config.items.size()) &&
                           item_tipped(event, config.items[static_cast<std::size_t>(item)].dims_m);
       if (tipped) {
-        std::optional<QuasiStaticLimit> tip;
-        for (const auto& l : across ? bounds.across : bounds.along) {
-          if (l.mode != FailureMode::top_item_slide || l.item != item ||
-              l.what.find("tips") == std::string::npos) {
-            continue;
-          }
-          if (!tip || l.accel_mps2 < tip->accel_mps2) tip = l;
-        }
+        const auto tip =
+            weakest_of(bounds, across, FailureMode::top_item_slide, item, Mechanism::stack_tip);
         std::string s = name + " tipped over" + when + ", turning " +
                         fixed(event.item_tilt_deg, 1) + " deg and moving " +
                         fixed(100.0 * event.value, 1) + " cm: " + demand_phrase(profile, demand);
