@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `bench batch`: the mjbatch scaling table for our scene. Simulation-steps per second of a serial
-// mj_step loop and of the batch at each thread count and nstep, on a curated pallet settled once
-// and started riding along a belt that keeps accelerating (so every contact carries friction).
+// step loop (pb::step) and of the batch at each thread count and nstep, on a curated pallet settled
+// once and started riding along a belt that keeps accelerating (so every contact carries friction).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include "core/physics/probe_run.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
+#include "core/physics/step.hpp"
 
 namespace pb::cli {
 
@@ -108,7 +109,7 @@ std::optional<std::string> run_serial(const Setup& setup, const Belt& belt, int 
         restore_state(setup.start, *d);
         for (int k = 0; k < steps; ++k) {
           belt.drive(0, m, *d);
-          mj_step(&m, d);
+          pb::step(&m, d);
         }
       })) {
     return error;
@@ -121,7 +122,7 @@ std::optional<std::string> run_serial(const Setup& setup, const Belt& belt, int 
           restore_state(setup.start, *d);
           for (int k = 0; k < steps; ++k) {
             belt.drive(i, m, *d);
-            mj_step(&m, d);
+            pb::step(&m, d);
           }
           failure = instability_reason(&m, d);
           config.final_qpos_x[std::size_t(i)] = d->qpos[setup.scene.layout.pallet_qpos];

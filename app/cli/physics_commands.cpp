@@ -381,7 +381,7 @@ Json bench_scenario(const Scenario& scenario, int runs, Fidelity fidelity, bool 
     }
   }
   const double solve = median(solve_ms);
-  const int stepped = last.steps - last.steps_skipped;  // mj_step calls
+  const int stepped = last.steps - last.steps_skipped;  // steps simulated
   const bool timed = stepped > 0 && solve > 0.0;
   return {{"scenario", scenario.slug},
           {"items", scenario.pallet.items.size()},

@@ -66,21 +66,28 @@ double normalised(const AxisLimit& a, double lo, double hi) {
   return std::clamp((a.limit - lo) / (hi - lo), 0.0, 1.0);
 }
 
-// Speed from which a stop at `decel` makes a slip of friction `mu` slide `distance`:
-// d_slide = v^2 / 2 (1 / (mu g) - 1 / decel).
-double slide_speed(double mu, double decel, double distance) {
-  const double k = 1.0 / (mu * kGravity) - 1.0 / decel;
+// A slip's deceleration once it slides: kinetic friction's mu_d g (QuasiStaticLimit), else the
+// onset's.
+double sliding_of(const QuasiStaticLimit& m) {
+  return m.sliding_mps2 > 0.0 ? std::min(m.sliding_mps2, m.accel_mps2) : m.accel_mps2;
+}
+
+// Speed from which a stop at `decel` (above the onset) makes a slip that slides at `sliding`
+// (m/s^2, mu_d g) slide `distance`: d_slide = v^2 / 2 (1 / sliding - 1 / decel).
+double slide_speed(double sliding, double decel, double distance) {
+  const double k = 1.0 / sliding - 1.0 / decel;
   return k > 0.0 ? std::sqrt(2.0 * distance / k) : 1e9;
 }
 
-// The belt-relative slide of a load held by Coulomb friction of onset mu_g (m/s^2) when the belt's
-// acceleration steps to `a` for `duration_s` and back to zero: it lags at a - mu g during the
-// step and catches up at mu g after it. (For an e-stop from v, T = v / a, this is slide_speed's
-// v^2 / 2 (1 / (mu g) - 1 / a).)
-double coulomb_slide_m(double mu_g, double a, double duration_s) {
-  if (a <= mu_g || mu_g <= 0.0) return a > mu_g ? 1e9 : 0.0;
-  const double lag = (a - mu_g) * duration_s;
-  return 0.5 * lag * duration_s + lag * lag / (2.0 * mu_g);
+// The belt-relative slide of a load held by Coulomb friction when the belt's acceleration steps to
+// `a` for `duration_s` and back to zero: nothing below the static onset `onset` (mu_s g); above
+// it the load breaks loose and lags at a - mu_d g (`sliding`, kinetic friction) during the step,
+// then catches up at mu_d g after it. (For an e-stop from v, T = v / a, this is slide_speed's
+// v^2 / 2 (1 / (mu_d g) - 1 / a).)
+double coulomb_slide_m(double onset, double sliding, double a, double duration_s) {
+  if (a <= onset || sliding <= 0.0) return a > onset ? 1e9 : 0.0;
+  const double lag = (a - sliding) * duration_s;
+  return 0.5 * lag * duration_s + lag * lag / (2.0 * sliding);
 }
 
 // How far a mechanism's slip may travel before its detector fires; 0 for a tip.
@@ -113,7 +120,7 @@ AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, dou
       // 2 / a^2 > 0; a curve's and a stop's likewise), so bisection finds where it reaches the
       // allowance.
       auto slide = [&](double x) {
-        return coulomb_slide_m(m.accel_mps2, x * unit, step_duration_s(x));
+        return coulomb_slide_m(m.accel_mps2, sliding_of(m), x * unit, step_duration_s(x));
       };
       if (onset >= hi || slide(hi) < allowance) continue;
       double a = std::max(onset, lo), b = hi;
@@ -572,7 +579,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     const bool slip = along.mode == FailureMode::pallet_slip;
     speed_seed = along.mode == FailureMode::tip_over
                      ? s.speed_min_mps
-                     : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+                     : slide_speed(sliding_of(along), line.estop_decel_mps2,
                                    slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
   }
   // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
@@ -957,7 +964,7 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
     stop.accel_mps2 =
         along.mode == FailureMode::tip_over
             ? 0.0
-            : slide_speed(along.accel_mps2 / kGravity, line.estop_decel_mps2,
+            : slide_speed(sliding_of(along), line.estop_decel_mps2,
                           along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
                                                                  : thresholds.item_slide_m);
   }

@@ -94,7 +94,7 @@ struct Probe {
   FailureMode mode = FailureMode::no_failure;
   double failure_time_s = 0.0;
   double wall_ms = 0.0;
-  int steps = 0;              ///< mj_step calls (profile steps reached minus those jumped)
+  int steps = 0;              ///< steps simulated (profile steps reached minus those jumped)
   double sim_time_s = 0.0;    ///< profile time reached
   double peak_ratio = 0.0;    ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
   bool confirmation = false;  ///< the run that confirms a limit (SearchConfig::confirm_limits)

@@ -79,8 +79,9 @@ Result<UncertaintyResult> failure_probability(const Scene& scene, const RestStat
       const int s = row / P;
       for (int p = 0; p < m.npair; ++p) {
         const double f = pair_factor[std::size_t(s * m.npair + p)];
+        // Every coefficient but the last, which names the pair (step.hpp's Coulomb friction).
         for (int k = 0; k < 5; ++k)
-          (*friction.value)(row, 5 * p + k) = m.pair_friction[5 * p + k] * f;
+          (*friction.value)(row, 5 * p + k) = m.pair_friction[5 * p + k] * (k < 4 ? f : 1.0);
       }
       for (std::size_t i = 0; i < items.size(); ++i) {
         const int b = items[i];

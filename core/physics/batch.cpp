@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "core/physics/engine.hpp"
+#include "core/physics/step.hpp"
 
 namespace pb {
 
@@ -295,7 +296,7 @@ struct Batch::Impl {
   std::string advance(int sim, const mjModel* m, mjData* d, int nstep, const StepHooks& hooks) {
     for (int k = 0; k < nstep; ++k) {
       if (hooks.control) hooks.control(sim, *m, *d);
-      mj_step(m, d);
+      pb::step(m, d);
       if (auto reason = instability_reason(m, d)) return *reason;
       if (hooks.observe && !hooks.observe(sim, *m, *d)) break;
     }

@@ -2,7 +2,8 @@
 // Many simulations of one compiled model stepped in parallel (mjbatch's design, for MuJoCo 2.2.2):
 // memory follows threads, not simulations. Each simulation stores only its state; each worker
 // thread owns one mjData into which it loads, steps and stores the simulations of its slice.
-// Stepping through the batch is bitwise equal to a serial mj_step loop, at every thread count.
+// Stepping through the batch is bitwise equal to a serial pb::step loop (step.hpp), at every thread
+// count.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -64,9 +65,9 @@ struct Selection {
 /// different simulations: they must touch only `data` and state of their own simulation, and
 /// must not throw (an exception fails that simulation).
 struct StepHooks {
-  /// Before every mj_step: write the inputs of the step about to run (ctrl, qfrc_applied, ...).
+  /// Before every step: write the inputs of the step about to run (ctrl, qfrc_applied, ...).
   std::function<void(int sim, const mjModel& model, mjData& data)> control;
-  /// After every mj_step: return false to stop stepping this simulation for the rest of the call
+  /// After every step: return false to stop stepping this simulation for the rest of the call
   /// (its state after that step is kept).
   std::function<bool(int sim, const mjModel& model, const mjData& data)> observe;
   /// Before a simulation is loaded and stepped in a call: false skips it for that call (its state
@@ -100,8 +101,8 @@ class Batch {
   /// The batch's own copy of the model (expanded parameters are not in it).
   const mjModel& model() const;
 
-  /// Runs `nstep` mj_step calls (nstep >= 0) on each selected simulation, with the hooks. A
-  /// simulation whose step raises an engine error or becomes unstable (instability_reason)
+  /// Runs `nstep` steps (pb::step, step.hpp) (nstep >= 0) on each selected simulation, with the
+  /// hooks. A simulation whose step raises an engine error or becomes unstable (instability_reason)
   /// stops there and keeps its pre-call state; the others complete. Calls are serialised and
   /// block until done (the calling thread is one of the workers: never call from a GUI thread).
   std::optional<BatchError> step(const Selection& selection = {}, int nstep = 1,

@@ -49,9 +49,9 @@ void load_rest_state(const SceneLayout& layout, const RestState& rest, double in
                      mjData& data);
 
 /// One probe run. Construct, load the start state (load_rest_state with initial_speed()), then
-/// per step: before_step(data), mj_step, after_step(model, data) until it returns false. An engine
-/// error raised by mj_step goes to engine_error(). Not thread-safe; one per simulation. The scene
-/// and the rest state must outlive it.
+/// per step: before_step(data), pb::step (step.hpp), after_step(model, data) until it returns
+/// false. An engine error raised by the step goes to engine_error(). Not thread-safe; one per
+/// simulation. The scene and the rest state must outlive it.
 class ProbeRun {
  public:
   ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProfile& profile,

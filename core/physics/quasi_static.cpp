@@ -66,7 +66,8 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
   const double mu_belt = friction.belt_pallet.mu_s;
   for (auto* list : {&out.along, &out.across}) {
     list->push_back({mu_belt * g, FailureMode::pallet_slip, Mechanism::pallet_slip,
-                     "the pallet slips on the belt (mu " + fixed(mu_belt, 2) + ")", -1});
+                     "the pallet slips on the belt (mu " + fixed(mu_belt, 2) + ")", -1,
+                     std::min(friction.belt_pallet.mu_d, mu_belt) * g});
   }
   // The whole load over the pallet's edge (the pallet's bottom is the pivot).
   const Vec3 com = composite_com_m(config);
@@ -93,13 +94,14 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     const Item& item = items[i];
     const bool on_deck = std::abs(item.position[2] - deck) <= kTouch;
     const double mu = on_deck ? friction.item_pallet.mu_s : friction.item_item.mu_s;
+    const double mu_d = std::min(mu, on_deck ? friction.item_pallet.mu_d : friction.item_item.mu_d);
     const std::string name = "item " + std::to_string(i);
     for (auto* list : {&out.along, &out.across}) {
       list->push_back({mu * g, FailureMode::top_item_slide,
                        on_deck ? Mechanism::item_slip_on_deck : Mechanism::item_slip_on_item,
                        name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
                            fixed(mu, 2) + ")",
-                       static_cast<int>(i)});
+                       static_cast<int>(i), mu_d * g});
     }
     // The sub-stack item i carries tips over item i's bottom edge: i and whatever rests on it
     // alone, directly or not. An item that also rests on something outside (a brick bridging two

@@ -24,6 +24,9 @@ struct QuasiStaticLimit {
   Mechanism mechanism = Mechanism::pallet_slip;
   std::string what;  ///< "item 7 slips on item 3 (mu 0.34)"
   int item = -1;     ///< the item concerned, -1 for the pallet
+  /// A slip's deceleration once it slides, mu_d g (kinetic friction; step.hpp): how far it slides
+  /// past the onset. 0 for a tip, and wherever it is the onset itself.
+  double sliding_mps2 = 0.0;
 };
 
 struct QuasiStaticBounds {

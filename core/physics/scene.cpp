@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/scene.hpp"
+#include "core/physics/step.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -237,7 +238,7 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\" jacobian=\"sparse\" impratio=\"" << num(o.impratio) << "\" iterations=\"" << o.iterations
     << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
     << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
-    << "\"/>\n"
+    << "\" nuserdata=\"" << kFrictionStateSlots * plan.pairs.size() << "\"/>\n"
     << (o.aftermath ? "  <default><geom contype=\"1\" conaffinity=\"1\" condim=\"3\" solref=\"" +
                           nums(o.contact_solref) + "\" solimp=\"" + nums(o.contact_solimp) +
                           "\"/></default>\n"
@@ -327,12 +328,16 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
   x << "    <velocity name=\"belt_vx\" joint=\"belt_x\" kv=\"" << num(kv) << "\"/>\n"
     << "    <velocity name=\"belt_vy\" joint=\"belt_y\" kv=\"" << num(kv) << "\"/>\n"
     << "  </actuator>\n  <contact>\n";
-  // One sliding-friction coefficient per pair: MuJoCo's cone has a single coefficient, and the
-  // onset of slip (what we predict) is governed by static friction.
-  for (const auto& p : pairs) {
+  // MuJoCo's cone has one sliding coefficient; step() (step.hpp) makes it Coulomb's, static until
+  // the pair breaks loose and kinetic while it slides. The pair's kinetic coefficient and its
+  // index (+1) ride in the friction slots a condim-3 contact does not use (torsion, rolling), and
+  // so reach every contact of the pair.
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const Pair& p = pairs[k];
     x << "    <pair geom1=\"" << p.a << "\" geom2=\"" << p.b << "\" condim=\"3\" friction=\""
-      << num(p.mu->mu_s) << " " << num(p.mu->mu_s) << " 0.005 0.0001 0.0001\" solref=\""
-      << nums(o.contact_solref) << "\" solimp=\"" << nums(o.contact_solimp) << "\"/>\n";
+      << num(p.mu->mu_s) << " " << num(p.mu->mu_s) << " " << num(std::min(p.mu->mu_d, p.mu->mu_s))
+      << " 0.0001 " << k + 1 << "\" solref=\"" << nums(o.contact_solref) << "\" solimp=\""
+      << nums(o.contact_solimp) << "\"/>\n";
   }
   x << "  </contact>\n";
   if (welds > 0) {
@@ -357,7 +362,9 @@ RestBarriers rest_barriers(const Scene& scene) {
   const mjModel* m = scene.model.get();
   RestBarriers b;
   const double total = total_mass_kg(config);
-  b.pallet_slip_force_n = total * scene.friction.belt_pallet.mu_s * kGravity;
+  // Friction dissipates at the kinetic coefficient once a slip slides (step.hpp).
+  const FrictionValue& belt = scene.friction.belt_pallet;
+  b.pallet_slip_force_n = total * std::min(belt.mu_s, belt.mu_d) * kGravity;
   const Vec3 com = composite_com_m(config);
   const double lever = std::min(config.base_dims_m[0] / 2 - std::abs(com[0]),
                                 config.base_dims_m[1] / 2 - std::abs(com[1]));
@@ -373,8 +380,9 @@ RestBarriers rest_barriers(const Scene& scene) {
       if (q.item < 0) continue;
       const int body = scene.layout.item_bodies[std::size_t(q.item)];
       if (m->body_jntnum[body] == 0) continue;  // merged: it moves only with what carries it
-      b.item_force_n =
-          std::min(b.item_force_n, config.items[std::size_t(q.item)].weight_kg * q.accel_mps2);
+      const double held = q.sliding_mps2 > 0.0 ? std::min(q.sliding_mps2, q.accel_mps2)
+                                               : q.accel_mps2;  // a slip slides at mu_d g
+      b.item_force_n = std::min(b.item_force_n, config.items[std::size_t(q.item)].weight_kg * held);
     }
   }
   return b;

@@ -115,16 +115,17 @@ struct SceneLayout {
 };
 
 /// What it takes to move the load away from rest, from the quasi-static onsets (quasi_static.hpp)
-/// times the masses they hold: a slip of onset mu g dissipates m mu g per metre of slide, a tip of
-/// onset g (b/2) / h lifts the centre of mass by (b/2) / h per metre it moves sideways, m g of
-/// work each. So moving an item a distance s costs at least m a_onset s; tilting the whole load by
+/// times the masses they hold: a slip dissipates m mu_d g per metre it slides (kinetic friction,
+/// step.hpp; no more than its onset's mu_s g), a tip of onset g (b/2) / h lifts the centre of mass
+/// by (b/2) / h per metre it moves sideways, m g of work each. So moving an item a distance s costs
+/// at least m a s, a its slip's sliding deceleration or its tip's onset; tilting the whole load by
 /// an angle theta about the pallet's bottom edge costs M g lever theta.
 struct RestBarriers {
-  /// The least m_i x onset_i over the free items (slip on what carries it, tip of the sub-stack
-  /// it carries over its bottom edge; a wrapped load's as if unwrapped: a wrap only adds
+  /// The least m_i x a_i over the free items (slip on what carries it at mu_d g, tip of the
+  /// sub-stack it carries over its bottom edge; a wrapped load's as if unwrapped: a wrap only adds
   /// resistance; infinite when no item is free), N.
   double item_force_n = 0.0;
-  double pallet_slip_force_n = 0.0;  ///< M_total mu_belt g
+  double pallet_slip_force_n = 0.0;  ///< M_total mu_d,belt g (kinetic: what a slide dissipates)
   double tilt_moment_nm = 0.0;       ///< M_total g (the centre of mass's distance to the edge)
 };
 

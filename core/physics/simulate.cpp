@@ -3,6 +3,7 @@
 
 #include "core/base/text.hpp"
 #include "core/physics/probe_run.hpp"
+#include "core/physics/step.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -134,7 +135,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   while (step < max_steps && !settled && !moved && !error) {
     error = guarded([&] {
       for (int k = 0; k < check_every && !error; ++k) {
-        mj_step(m, d);
+        pb::step(m, d);
         error = belt.check(std::hypot(d->qvel[l.belt_x_dof], d->qvel[l.belt_y_dof]));
       }
     });
@@ -202,7 +203,7 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
   }
   while (!probe.done()) {
     probe.before_step(*d);
-    if (auto error = guarded([&] { mj_step(m, d); })) {
+    if (auto error = guarded([&] { pb::step(m, d); })) {
       probe.engine_error(*error);
       mj_resetData(m, d);
       break;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Test helper: a friction model with one constant coefficient per contact (mu_d = mu_s, one
-// control point, so every temperature gives the same value) and the reference's frost-melt
-// penalty, so the physics tests know mu exactly.
+// Test helper: a friction model with constant coefficients per contact (one control point, so every
+// temperature gives the same value; mu_d = mu_s unless told otherwise) and the reference's
+// frost-melt penalty, so the physics tests know mu exactly.
 #pragma once
 
 #include <string>
@@ -17,14 +17,15 @@ struct ConstantMu {
   double belt_pallet = 1.0;  ///< wood_pallet/rubber_belt
   double item_pallet = 0.3;  ///< carton/wood_pallet
   double item_item = 0.4;    ///< carton/carton
+  double kinetic = 1.0;      ///< mu_d / mu_s of every pair
 };
 
 /// The JSON text of a table with the constant coefficients of `mu` and kTestPenalty.
 inline std::string constant_friction_json(const ConstantMu& mu) {
-  auto pair = [](const char* key, double value) {
-    const std::string v = std::to_string(value);
+  auto pair = [&](const char* key, double value) {
     return std::string("\"") + key + "\": {\"description\": \"constant\", \"control_points\": " +
-           "[{\"temp_c\": 0.0, \"mu_s\": " + v + ", \"mu_d\": " + v + "}]}";
+           "[{\"temp_c\": 0.0, \"mu_s\": " + std::to_string(value) +
+           ", \"mu_d\": " + std::to_string(value * mu.kinetic) + "}]}";
   };
   return "{\"surface_pairs\": {" + pair("wood_pallet/rubber_belt", mu.belt_pallet) + ", " +
          pair("carton/wood_pallet", mu.item_pallet) + ", " + pair("carton/carton", mu.item_item) +

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The batch against serial mj_step loops, bit for bit, on a real pallet scene (three cartons,
-// explicit contact pairs, a velocity-driven belt): every thread count, subsets by ids and mask,
-// resets, per-simulation controls and parameters; and the failure rules: a failing simulation is
-// named (the lowest index), keeps its pre-call state, and does not stop the others.
+// The batch against serial loops of pb::step (mj_step with Coulomb friction, step.hpp), bit for
+// bit, on a real pallet scene (three cartons, explicit contact pairs, a velocity-driven belt):
+// every thread count, subsets by ids and mask, resets, per-simulation controls and parameters; and
+// the failure rules: a failing simulation is named (the lowest index), keeps its pre-call state,
+// and does not stop the others.
 #include "core/physics/batch.hpp"
 
 #include <sys/resource.h>
@@ -25,6 +26,7 @@
 #include "core/physics/engine.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
+#include "core/physics/step.hpp"
 
 using namespace pb;
 
@@ -226,7 +228,7 @@ class BatchTest : public QObject {
       Serial& r = ref[std::size_t(i)];
       for (int k = 0; k < nstep; ++k) {
         drive(scene_->layout, i, *r.model, *r.data);
-        mj_step(r.model.get(), r.data.get());
+        pb::step(r.model.get(), r.data.get());
       }
     };
     const std::vector<int> ids{0, 2, 4};
@@ -393,7 +395,7 @@ class BatchTest : public QObject {
       for (int i = 0; i < 3; ++i) {
         for (int k = 0; k < 10; ++k) {
           drive(scene_->layout, i, *ref[std::size_t(i)].model, *ref[std::size_t(i)].data);
-          mj_step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
+          pb::step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
         }
       }
       check_lockstep(batch, ref, call);
@@ -529,7 +531,7 @@ class BatchTest : public QObject {
     for (int i = 0; i < kSims; ++i) {
       for (int k = 0; k < 2; ++k) {
         drive(scene_->layout, i, *ref[std::size_t(i)].model, *ref[std::size_t(i)].data);
-        mj_step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
+        pb::step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
       }
     }
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -551,7 +553,7 @@ class BatchTest : public QObject {
     Serial diverged = std::move(serial_copies(model(), 1).front());
     mj_copyData(diverged.data.get(), diverged.model.get(), ref[1].data.get());
     diverged.data->qvel[scene_->layout.pallet_dof] = nan;
-    mj_step(diverged.model.get(), diverged.data.get());
+    pb::step(diverged.model.get(), diverged.data.get());
     QCOMPARE(q(error->message),
              q("simulation 1: " + *instability_reason(diverged.model.get(), diverged.data.get())));
     QVERIFY(q(error->message).startsWith("simulation 1: the velocities diverged"));
@@ -559,7 +561,7 @@ class BatchTest : public QObject {
     for (int i : {0, 4}) {
       for (int k = 0; k < 4; ++k) {
         drive(scene_->layout, i, *ref[std::size_t(i)].model, *ref[std::size_t(i)].data);
-        mj_step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
+        pb::step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
       }
       QVERIFY(same_bits(batch.get_state(i),
                         capture_state(*ref[std::size_t(i)].model, *ref[std::size_t(i)].data)));
@@ -594,7 +596,7 @@ class BatchTest : public QObject {
       for (int i = 0; i < kSims; ++i) {
         for (int k = 0; k < 2; ++k) {
           drive(scene_->layout, i, *ref[std::size_t(i)].model, *ref[std::size_t(i)].data);
-          mj_step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
+          pb::step(ref[std::size_t(i)].model.get(), ref[std::size_t(i)].data.get());
         }
       }
       check_lockstep(batch, ref, call);

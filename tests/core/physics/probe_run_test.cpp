@@ -194,7 +194,11 @@ class ProbeRunTest : public QObject {
     QVERIFY(skipped > 0);
   }
 
-  // The envelope limits and their modes are identical with and without skipping.
+  // The envelope's modes are identical with and without skipping, and its limits within one search
+  // step. They were identical while friction had one coefficient. With Coulomb friction
+  // (step.hpp) a load held at 98-99 % of its static onset breaks loose when the full stepping's
+  // box-box contact set loses a corner for a step and unloads the pallet; skipping jumps over those
+  // steps. Both curated loads below differ so on their curve, by half a step (0.005 g).
   void envelopeUnchangedBySkipping_data() {
     QTest::addColumn<QString>("slug");
     QTest::newRow("stable-dairy-slab") << "stable-dairy-slab";
@@ -211,9 +215,18 @@ class ProbeRunTest : public QObject {
     auto full = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(false));
     auto skip = search_envelope(*p.simulator, p.rest, p.bounds, {}, {}, skipping(true));
     QVERIFY(full.ok() && skip.ok());
-    for (auto axis : {&Envelope::accel, &Envelope::decel, &Envelope::lateral, &Envelope::speed}) {
-      QCOMPARE(((*skip.value).*axis).limit, ((*full.value).*axis).limit);
-      QCOMPARE(((*skip.value).*axis).mode, ((*full.value).*axis).mode);
+    const SearchConfig s;
+    const std::pair<AxisLimit Envelope::*, double> axes[] = {
+        {&Envelope::accel, s.accel_precision_mps2},
+        {&Envelope::decel, s.decel_precision_mps2},
+        {&Envelope::lateral, s.lateral_precision_g},
+        {&Envelope::speed, s.speed_precision_mps}};
+    for (const auto& [axis, step] : axes) {
+      const AxisLimit& a = (*skip.value).*axis;
+      const AxisLimit& b = (*full.value).*axis;
+      QVERIFY2(std::abs(a.limit - b.limit) <= step + 1e-9,
+               qPrintable(QString("skipping %1, full stepping %2").arg(a.limit).arg(b.limit)));
+      QCOMPARE(a.mode, b.mode);
     }
   }
 
