@@ -26,7 +26,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kReferenceCacheVersion = "reference-cache-1";
+// Bumped whenever the physics the reference runs changes, so that no cached envelope of the old
+// physics is judged against: 2 = Coulomb friction (core/physics/step.hpp, 2026-11-26).
+constexpr const char* kReferenceCacheVersion = "reference-cache-2";
 
 std::string cell(const std::string& text, int width, bool left) {
   std::ostringstream out;

@@ -106,7 +106,10 @@ void coulomb_friction(const mjModel* m, mjData* d) {
   std::fill(fastest, fastest + m->npair, kUnknown);
   for (int i = 0; i < d->ncon; ++i) {
     const int p = pair_of(m, d->contact[i]);
-    if (p >= 0) fastest[p] = std::max(fastest[p], slip_speed(m, d, d->contact[i]));
+    if (p < 0) continue;
+    // The slip matters only to a pair that slides or was on its cone; the others just hold.
+    const bool needed = s->sliding[p] != 0.0 || s->use[p] >= kConeSaturated;
+    fastest[p] = std::max(fastest[p], needed ? slip_speed(m, d, d->contact[i]) : 0.0);
   }
   bool any_sliding = false;
   for (int p = 0; p < m->npair; ++p) {

@@ -3,10 +3,12 @@
 // reference configuration on the three small unwrapped curated scenarios, frozen-pallet-jerk-start
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
-// only (about two minutes on 2 cores). Pinned at what was measured when the corpus was re-made
-// of loads that can stand (2026-11-24, issue 12; again after issue 16's symmetry reduction): 89 of
-// the 96 limits (93 %) within one search step, 1 more than one step above the reference (u2048's
-// curve, +1.2 steps; the corpus README). Labelled long.
+// only (about two minutes on 2 cores). Pinned at what was measured when friction became Coulomb's
+// and every reference was recomputed (2026-11-26, core/physics/step.hpp): 86 of the 96 limits
+// (89.6 %) within one search step, 2 more than one step above the reference (top-heavy-surprise's
+// and asymmetric-load's stops, +2.44 and +1.94: demands where a rocking column breaks an item
+// loose or not by chance; the corpus README). Before it, against the old references: 91 / 96, 0
+// above. Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -61,8 +63,8 @@ class AgreementCorpusLabTest : public QObject {
     const int above = def.value("limits_above").toInt();
     qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
           100.0 * within, above);
-    QVERIFY2(within >= 0.90, qPrintable(QString::number(within)));
-    QVERIFY2(above <= 1, qPrintable(QString::number(above)));
+    QVERIFY2(within >= 0.89, qPrintable(QString::number(within)));
+    QVERIFY2(above <= 2, qPrintable(QString::number(above)));
   }
 };
 
