@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace pb {
 
@@ -11,10 +13,12 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   out.closed_form = seed;
   std::optional<double> safe, fail;
   FailureMode fail_mode = FailureMode::no_failure;
-  double last_ratio = 0.0;  // the peak ratio of the probe recorded last
+  double last_ratio = 0.0;                      // the peak ratio of the probe recorded last
+  std::vector<std::pair<double, bool>> probed;  // every verdict: value, failed
   auto record = [&](double x, const ProbeVerdict& v) {
     ++out.probes;
     last_ratio = v.peak_ratio;
+    probed.emplace_back(x, v.failed);
     if (v.failed) {
       if (!fail || x < *fail) {
         fail = x;
@@ -152,6 +156,30 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   }
   while (!sectioned && safe && fail && *fail - *safe > finest()) {
     if (!test(0.5 * (*safe + *fail))) return std::nullopt;
+  }
+  // A load whose items can move (vouch_) may fail and hold by turns over a band of demands (an
+  // item held between its kinetic and static onsets slides when its carrier's rocking breaks it
+  // loose), and the bracket's probes sample that band at a few points. So the answer is probed
+  // once more a step below (unless that point was probed already); a failure there restarts the
+  // walk down from it, at most kBandChecks times.
+  for (int checks = 0; vouch_ && checks < kBandChecks && safe && fail; ++checks) {
+    const double x = *safe - precision_;
+    if (x <= min_) break;
+    const auto seen = std::find_if(probed.begin(), probed.end(),
+                                   [&](const auto& p) { return std::abs(p.first - x) < 1e-12; });
+    const auto below = seen != probed.end() ? std::optional<bool>(seen->second) : test(x);
+    if (!below) return std::nullopt;
+    if (!*below) break;
+    safe.reset();
+    if (seen != probed.end()) fail = std::min(*fail, x);
+    int n = 0;
+    for (double y = *fail - walk_step(n); !safe && y > min_; y = *fail - walk_step(++n)) {
+      if (!test(y)) return std::nullopt;
+    }
+    if (!safe && *fail > min_ && !test(min_)) return std::nullopt;
+    while (safe && fail && *fail - *safe > finest()) {
+      if (!test(0.5 * (*safe + *fail))) return std::nullopt;
+    }
   }
   return finish(out, safe, fail, fail_mode);
 }

@@ -22,6 +22,9 @@ struct ProbeVerdict {
 // A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
 // within a step or two of the limit: the walk up keeps its step there instead of doubling.
 constexpr double kNearFailure = 0.5;
+/// How many times a search of a load whose items can move goes down again after a failure one step
+/// below its answer (AxisSearch::run, `vouch`).
+constexpr int kBandChecks = 3;
 
 // One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect while
 // the bracket, as computed in doubles, is wider than the precision (finest()). Down from a failing
@@ -30,11 +33,11 @@ constexpr double kNearFailure = 0.5;
 // probe came near failing (kNearFailure), else doubling (a pallet that must slip 0.3 m can be ten
 // steps above its onset). Every walk's steps are the precision times powers of two, so the
 // bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
-// assumed monotone along the axis, except just below a seed at the load's weakest onset that came
-// near failing: that is probed (`vouch`, run()). With a batch function and k > 1 the bracket is
-// narrowed by k-section instead: each round probes k points of the bisection grid of the bracket at
-// once (one batched call), so rounds drop from log2 n to log_{k+1} n; the walk that brackets the
-// boundary takes its next k points per round.
+// assumed monotone along the axis, except for a load whose items can move (`vouch`, run()): just
+// below a seed at its weakest onset that came near failing, and one step below its answer. With a
+// batch function and k > 1 the bracket is narrowed by k-section instead: each round probes k points
+// of the bisection grid of the bracket at once (one batched call), so rounds drop from log2 n to
+// log_{k+1} n; the walk that brackets the boundary takes its next k points per round.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable
@@ -42,9 +45,10 @@ class AxisSearch {
   using BatchFn =
       std::function<std::optional<std::vector<ProbeVerdict>>(const std::vector<double>&)>;
 
-  /// `vouch`: a safe seed that came near failing is checked below (see run()); for a load whose
-  /// items can move, seeded one step above its weakest onset. A one-body load's seed is its
-  /// closed-form prediction, half a step below the slip it predicts: near failing by design.
+  /// `vouch`: a safe seed that came near failing is checked below, and so is the answer (see
+  /// run()); for a load whose items can move, seeded one step above its weakest onset. A one-body
+  /// load's seed is its closed-form prediction, half a step below the slip it predicts: near
+  /// failing by design.
   AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true,
              bool vouch = false, BatchFn batch = {}, int k = 1)
       : min_(lo),

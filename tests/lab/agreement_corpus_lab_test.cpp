@@ -4,11 +4,11 @@
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
 // only (about two minutes on 2 cores). Pinned at what was measured when friction became Coulomb's
-// and every reference was recomputed (2026-11-26, core/physics/step.hpp): 86 of the 96 limits
-// (89.6 %) within one search step, 2 more than one step above the reference (top-heavy-surprise's
-// and asymmetric-load's stops, +2.44 and +1.94: demands where a rocking column breaks an item
-// loose or not by chance; the corpus README). Before it, against the old references: 91 / 96, 0
-// above. Labelled long.
+// and every reference was recomputed (2026-11-26, core/physics/step.hpp), with each answer checked
+// a step below (core/analysis/axis_search.hpp): 86 of the 96 limits (89.6 %) within one search
+// step, 1 more than one step above the reference (asymmetric-load's stop, +1.94: a demand where a
+// rocking column breaks an item loose or not by chance; the corpus README). Before the friction
+// changed, against the old references: 91 / 96, 0 above. Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -64,7 +64,7 @@ class AgreementCorpusLabTest : public QObject {
     qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
           100.0 * within, above);
     QVERIFY2(within >= 0.89, qPrintable(QString::number(within)));
-    QVERIFY2(above <= 2, qPrintable(QString::number(above)));
+    QVERIFY2(above <= 1, qPrintable(QString::number(above)));
   }
 };
 

@@ -2,6 +2,7 @@
 #include "core/analysis/axis_search.hpp"
 
 #include <QtTest>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -91,6 +92,50 @@ class AxisSearchTest : public QObject {
     auto far = AxisSearch(kLo, kHi, kStep, calm.fn(), true, true).run(0.2);
     QVERIFY(far.has_value());
     for (double x : calm.probed) QVERIFY2(x >= 0.2, std::to_string(x).c_str());
+  }
+
+  // The answer of a load whose items can move is probed once more a step below: where the load
+  // fails there (a band where it fails and holds by turns, as top-heavy-surprise's stop does with
+  // Coulomb friction), the search walks down from that failure; where it holds, that is one probe
+  // more. The unvouched search answers inside the band.
+  void theAnswerIsCheckedAStepBelow() {
+    auto monotone = [](double x) { return x >= 0.3; };
+    // A seed whose search never probed a step below its answer (else the check costs nothing and
+    // finds nothing new), and a band there that none of its probes touched.
+    double seed = 0.0, L = 0.0, lo = 0.0, hi = 0.0;
+    int probes = 0;
+    for (double s : {0.2, 0.22, 0.24, 0.26, 0.27, 0.28}) {
+      MadeUp plain{monotone, 0.0, 1.0, {}};
+      auto answer = AxisSearch(kLo, kHi, kStep, plain.fn(), true, false).run(s);
+      QVERIFY(answer.has_value());
+      const double a = answer->limit - 1.5 * kStep, b = answer->limit - 0.5 * kStep;
+      if (std::none_of(plain.probed.begin(), plain.probed.end(),
+                       [&](double x) { return x >= a && x < b; })) {
+        seed = s, L = answer->limit, lo = a, hi = b, probes = answer->probes;
+        break;
+      }
+    }
+    QVERIFY(seed > 0.0);
+    auto band = [&](double x) { return monotone(x) || (x >= lo && x < hi); };
+
+    MadeUp trusting{band, 0.0, 1.0, {}};
+    auto unsafe = AxisSearch(kLo, kHi, kStep, trusting.fn(), true, false).run(seed);
+    QVERIFY(unsafe && unsafe->limit == L);
+
+    MadeUp checking{band, 0.0, 1.0, {}};
+    auto limit = AxisSearch(kLo, kHi, kStep, checking.fn(), true, true).run(seed);
+    QVERIFY(limit.has_value());
+    QVERIFY2(limit->limit < lo && limit->limit >= lo - kStep - 1e-12,
+             std::to_string(limit->limit).c_str());
+    QCOMPARE(limit->probes, int(checking.probed.size()));
+
+    // Where the load holds a step below, the check is one probe more and changes nothing.
+    MadeUp held{monotone, 0.0, 1.0, {}};
+    auto same = AxisSearch(kLo, kHi, kStep, held.fn(), true, true).run(seed);
+    QVERIFY(same.has_value());
+    QCOMPARE(same->limit, L);
+    QCOMPARE(same->probes, probes + 1);
+    QCOMPARE(held.probed.back(), L - kStep);
   }
 
   // A seed at the bottom of the range has nothing below it to check.
