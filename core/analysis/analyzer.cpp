@@ -5,6 +5,7 @@
 #include <cctype>
 #include <chrono>
 
+#include "core/base/text.hpp"
 #include "core/contract/fingerprint.hpp"
 #include "core/inputs/validation.hpp"
 
@@ -15,6 +16,24 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// What the confidence says, for the supervisor: the reason's last sentence. Each limit sits where
+// this load starts to fail, so a limit friction or mass can move scores low by construction; a low
+// score says the four limits together leave no room.
+std::string confidence_sentence(const UncertaintyResult& c, const UncertaintySpread& spread) {
+  const int judged = c.samples - c.unstable;
+  if (judged <= 0) {
+    return " No copy of the load with friction and masses varied ran to a verdict (all " +
+           std::to_string(c.unstable) + " unstable): confidence unknown.";
+  }
+  std::string out =
+      " At these limits " + std::to_string(c.failures) + " of " + std::to_string(judged) +
+      " copies of the load with friction and masses varied (" +
+      fixed(100.0 * spread.friction_sigma, 0) + " % and " + fixed(100.0 * spread.mass_sigma, 0) +
+      " %) fail: confidence " + fixed(1.0 - c.p_fail, 2) + ".";
+  if (1.0 - c.p_fail < 0.5) out += " Run this pallet below its limits, not at them.";
+  return out;
 }
 
 // A load that cannot stand gets no conveyor limit: a reject whose reason is the build defect.
@@ -236,7 +255,9 @@ Result<Envelope> Analyzer::envelope(const PalletConfig& config) {
     auto c = limits_confidence(*p.scene, *env, options_.line, options_.search, options_.confidence,
                                options_.sim);
     if (!c) return Result<Envelope>::failure(std::move(c.diagnostics));
-    env->result.confidence = 1.0 - c->p_fail;
+    // Every copy unstable leaves nothing judged: unknown, not 1.
+    if (c->samples > c->unstable) env->result.confidence = 1.0 - c->p_fail;
+    env->result.reason += confidence_sentence(*c, options_.confidence.spread);
     env->result.sims_run += c->sims;
     env->result.sim_runtime_ms = ms_since(start);
   }

@@ -8,6 +8,7 @@
 
 #include "core/analysis/analyzer.hpp"
 #include "core/analysis/envelope.hpp"
+#include "core/base/text.hpp"
 #include "core/contract/json_io.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
@@ -148,6 +149,16 @@ class UncertaintyTest : public QObject {
                                    options.search, options.confidence);
     QVERIFY(again);
     QCOMPARE(*r.confidence, 1.0 - again->p_fail);
+    // The reason says it in a sentence a supervisor reads: how many copies failed, the score, and
+    // below 0.5 to run below the limits. Without the estimate the sentence is absent.
+    const std::string sentence = " At these limits " + std::to_string(again->failures) +
+                                 " of 8 copies of the load with friction and masses varied (10 % " +
+                                 "and 5 %) fail: confidence " + fixed(*r.confidence, 2) + ".";
+    QVERIFY2(r.reason.find(sentence) != std::string::npos, r.reason.c_str());
+    QCOMPARE(r.reason.find("Run this pallet below") != std::string::npos, *r.confidence < 0.5);
+    QCOMPARE(base->reason + sentence +
+                 (*r.confidence < 0.5 ? " Run this pallet below its limits, not at them." : ""),
+             r.reason);
     qInfo(
         "carton: limits accel %.2f decel %.2f lateral %.2f speed %.2f; confidence %.3f [%d of "
         "8 samples fail; modes %d]",
