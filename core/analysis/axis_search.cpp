@@ -75,6 +75,21 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     }
     return true;
   };
+  // Down from the lowest failure in the walk's steps until a probe holds, the floor last; false
+  // when a probe was unstable.
+  auto walk_down = [&]() -> bool {
+    for (int n = 0; !safe && *fail - walk_step(n) > min_; ++n) {
+      if (!test(*fail - walk_step(n))) return false;
+    }
+    return safe || *fail <= min_ || test(min_).has_value();
+  };
+  // Halve the bracket while it is wider than the precision; false when a probe was unstable.
+  auto bisect = [&]() -> bool {
+    while (safe && fail && *fail - *safe > finest()) {
+      if (!test(0.5 * (*safe + *fail))) return false;
+    }
+    return true;
+  };
   const bool sectioned = batch_ && k_ > 1;
   if (!seeded_) {  // the reference's plain bisection over the whole range
     double lo = min_, hi = max_;
@@ -140,10 +155,7 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
       if (last) break;
     }
   } else if (*r) {  // failed: walk down
-    for (double x = *fail - step; !safe && x > min_; step = walk_step(++walked), x = *fail - step) {
-      if (!test(x)) return std::nullopt;
-    }
-    if (!safe && *fail > min_ && !test(min_)) return std::nullopt;
+    if (!walk_down()) return std::nullopt;
   } else {  // safe: walk up, one step at a time while the load comes near failing, else doubling
     for (double x = first + step; !fail && x < max_; x = *safe + step) {
       if (!test(x)) return std::nullopt;
@@ -154,9 +166,7 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   if (sectioned && safe && fail && *fail - *safe > finest()) {
     if (!k_section(*safe, *fail, finest())) return std::nullopt;
   }
-  while (!sectioned && safe && fail && *fail - *safe > finest()) {
-    if (!test(0.5 * (*safe + *fail))) return std::nullopt;
-  }
+  if (!sectioned && !bisect()) return std::nullopt;
   // A load whose items can move (vouch_) may fail and hold by turns over a band of demands (an
   // item held between its kinetic and static onsets slides when its carrier's rocking breaks it
   // loose), and the bracket's probes sample that band at a few points. So the answer is probed
@@ -172,14 +182,7 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     if (!*below) break;
     safe.reset();
     if (seen != probed.end()) fail = std::min(*fail, x);
-    int n = 0;
-    for (double y = *fail - walk_step(n); !safe && y > min_; y = *fail - walk_step(++n)) {
-      if (!test(y)) return std::nullopt;
-    }
-    if (!safe && *fail > min_ && !test(min_)) return std::nullopt;
-    while (safe && fail && *fail - *safe > finest()) {
-      if (!test(0.5 * (*safe + *fail))) return std::nullopt;
-    }
+    if (!walk_down() || !bisect()) return std::nullopt;
   }
   return finish(out, safe, fail, fail_mode);
 }

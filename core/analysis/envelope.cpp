@@ -66,12 +66,6 @@ double normalised(const AxisLimit& a, double lo, double hi) {
   return std::clamp((a.limit - lo) / (hi - lo), 0.0, 1.0);
 }
 
-// A slip's deceleration once it slides: kinetic friction's mu_d g (QuasiStaticLimit), else the
-// onset's.
-double sliding_of(const QuasiStaticLimit& m) {
-  return m.sliding_mps2 > 0.0 ? std::min(m.sliding_mps2, m.accel_mps2) : m.accel_mps2;
-}
-
 // Speed from which a stop at `decel` (above the onset) makes a slip that slides at `sliding`
 // (m/s^2, mu_d g) slide `distance`: d_slide = v^2 / 2 (1 / sliding - 1 / decel).
 double slide_speed(double sliding, double decel, double distance) {
@@ -120,7 +114,7 @@ AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, dou
       // 2 / a^2 > 0; a curve's and a stop's likewise), so bisection finds where it reaches the
       // allowance.
       auto slide = [&](double x) {
-        return coulomb_slide_m(m.accel_mps2, sliding_of(m), x * unit, step_duration_s(x));
+        return coulomb_slide_m(m.accel_mps2, sliding_decel_mps2(m), x * unit, step_duration_s(x));
       };
       if (onset >= hi || slide(hi) < allowance) continue;
       double a = std::max(onset, lo), b = hi;
@@ -579,7 +573,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     const bool slip = along.mode == FailureMode::pallet_slip;
     speed_seed = along.mode == FailureMode::tip_over
                      ? s.speed_min_mps
-                     : slide_speed(sliding_of(along), line.estop_decel_mps2,
+                     : slide_speed(sliding_decel_mps2(along), line.estop_decel_mps2,
                                    slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
   }
   // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
@@ -964,7 +958,7 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
     stop.accel_mps2 =
         along.mode == FailureMode::tip_over
             ? 0.0
-            : slide_speed(sliding_of(along), line.estop_decel_mps2,
+            : slide_speed(sliding_decel_mps2(along), line.estop_decel_mps2,
                           along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
                                                                  : thresholds.item_slide_m);
   }

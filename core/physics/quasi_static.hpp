@@ -4,6 +4,7 @@
 // cheapest rung of the fidelity ladder, and the seed of every envelope search.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,11 @@ struct QuasiStaticBounds {
 /// every sub-stack (an item and all it carries) tipping over that item's bottom edge. Frictions
 /// are the effective (frost-penalised) static values.
 QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction);
+
+/// A mechanism's deceleration once it moves: a slip's kinetic mu_d g (no more than its onset), a
+/// tip's onset.
+inline double sliding_decel_mps2(const QuasiStaticLimit& m) {
+  return m.sliding_mps2 > 0.0 ? std::min(m.sliding_mps2, m.accel_mps2) : m.accel_mps2;
+}
 
 }  // namespace pb

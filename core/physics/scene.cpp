@@ -380,9 +380,8 @@ RestBarriers rest_barriers(const Scene& scene) {
       if (q.item < 0) continue;
       const int body = scene.layout.item_bodies[std::size_t(q.item)];
       if (m->body_jntnum[body] == 0) continue;  // merged: it moves only with what carries it
-      const double held = q.sliding_mps2 > 0.0 ? std::min(q.sliding_mps2, q.accel_mps2)
-                                               : q.accel_mps2;  // a slip slides at mu_d g
-      b.item_force_n = std::min(b.item_force_n, config.items[std::size_t(q.item)].weight_kg * held);
+      b.item_force_n = std::min(
+          b.item_force_n, config.items[std::size_t(q.item)].weight_kg * sliding_decel_mps2(q));
     }
   }
   return b;

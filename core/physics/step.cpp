@@ -104,11 +104,16 @@ void coulomb_friction(const mjModel* m, mjData* d) {
   if (!s) return;
   mjtNum* fastest = s->scratch;
   std::fill(fastest, fastest + m->npair, kUnknown);
+  bool velocities = false;
   for (int i = 0; i < d->ncon; ++i) {
     const int p = pair_of(m, d->contact[i]);
     if (p < 0) continue;
     // The slip matters only to a pair that slides or was on its cone; the others just hold.
     const bool needed = s->sliding[p] != 0.0 || s->use[p] >= kConeSaturated;
+    if (needed && !velocities) {
+      mj_comVel(m, d);  // this step's body velocities (mj_fwdVelocity computes them again)
+      velocities = true;
+    }
     fastest[p] = std::max(fastest[p], needed ? slip_speed(m, d, d->contact[i]) : 0.0);
   }
   bool any_sliding = false;
@@ -158,7 +163,6 @@ void step(const mjModel* m, mjData* d) {
   mj_crb(m, d);
   mj_factorM(m, d);
   mj_collision(m, d);
-  mj_comVel(m, d);  // this step's body velocities, for the contacts' slip
   coulomb_friction(m, d);
   mj_makeConstraint(m, d);
   mj_transmission(m, d);
