@@ -27,8 +27,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // Bumped whenever the physics the reference runs changes, so that no cached envelope of the old
-// physics is judged against: 2 = Coulomb friction (core/physics/step.hpp, 2026-11-26).
-constexpr const char* kReferenceCacheVersion = "reference-cache-2";
+// physics is judged against: 2 = Coulomb friction (core/physics/step.hpp, 2026-11-26); 3 = curves
+// turn the load (core/physics/turning_frame.hpp, session 15).
+constexpr const char* kReferenceCacheVersion = "reference-cache-3";
 
 std::string cell(const std::string& text, int width, bool left) {
   std::ostringstream out;

@@ -177,6 +177,17 @@ ConveyorProfile lateral_probe_profile(double lateral_g, const LineDescription& l
 
 namespace {
 
+// The mechanisms across the belt, their onsets in the centre line's v^2 / r: a curve of `radius_m`
+// demands more of a mass off the centre (curve_demand_factor).
+std::vector<QuasiStaticLimit> in_a_curve(std::vector<QuasiStaticLimit> across, double radius_m) {
+  for (QuasiStaticLimit& m : across) {
+    const double f = curve_demand_factor(m, radius_m);
+    m.accel_mps2 /= f;
+    m.sliding_mps2 /= f;
+  }
+  return across;
+}
+
 // Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe).
 AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDescription& line,
                                   const SearchConfig& s, const DetectorThresholds& thresholds) {
@@ -188,7 +199,7 @@ AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDes
       bounds.along, 1.0, s.decel_min_mps2, s.decel_max_mps2,
       [&](double d) { return s.speed_max_mps / d; }, thresholds);
   p.lateral = predict_axis(
-      bounds.across, kGravity, s.lateral_min_g, s.lateral_max_g,
+      in_a_curve(bounds.across, line.curve_radius_m), kGravity, s.lateral_min_g, s.lateral_max_g,
       [&](double g) {
         return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
       },
@@ -203,7 +214,8 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
   if (bounds.one_body()) return rigid_predictions(bounds, line, s, thresholds);
   // Items can slide and rock: the onsets (see the header).
   AxisPredictions p;
-  const QuasiStaticLimit along = bounds.weakest_along(), across = bounds.weakest_across();
+  QuasiStaticBounds curve{{}, in_a_curve(bounds.across, line.curve_radius_m)};
+  const QuasiStaticLimit along = bounds.weakest_along(), across = curve.weakest_across();
   p.accel = p.decel = {along.accel_mps2, along.mode};
   p.lateral = {across.accel_mps2 / kGravity, across.mode};
   return p;

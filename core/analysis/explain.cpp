@@ -137,15 +137,29 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
           ? ", frost-melt film: " + fixed(100.0 * (1.0 - cf.belt_pallet.penalty), 0) + " % off"
           : "";
 
+  // A curve turns the load: a mass off the centre line rides at its own radius, where the demand
+  // is curve_demand_factor times the centre line's (turning_frame.hpp).
+  auto felt = [&](const std::optional<QuasiStaticLimit>& m) {
+    return across && m ? demand * curve_demand_factor(*m, profile.curve_radius_m) : demand;
+  };
+  auto phrase = [&](double local) {
+    std::string s = demand_phrase(profile, demand);
+    if (demand > 0.0 && std::abs(local - demand) > 0.005 * demand) {
+      s += " (" + fixed(local / kGravity, 2) + " g where it rides: the curve turns the load)";
+    }
+    return s;
+  };
+
   switch (event.mode) {
     case FailureMode::pallet_slip: {
-      return "The pallet slipped on the belt" + when + ": " + demand_phrase(profile, demand) +
-             " needs μ " + fixed(demand / kGravity, 2) + ", " + cf.belt_pallet_key + " has " +
+      const double local = felt(weakest_of(bounds, across, FailureMode::pallet_slip, -1));
+      return "The pallet slipped on the belt" + when + ": " + phrase(local) + " needs μ " +
+             fixed(local / kGravity, 2) + ", " + cf.belt_pallet_key + " has " +
              fixed(cf.belt_pallet.mu_s, 2) + at + penalty + ".";
     }
     case FailureMode::tip_over: {
       const auto tip = weakest_of(bounds, across, FailureMode::tip_over, -1);
-      std::string s = "The load tipped over" + when + ": " + demand_phrase(profile, demand);
+      std::string s = "The load tipped over" + when + ": " + phrase(felt(tip));
       if (tip) {
         s += (demand > 0.0 ? " is more than the " : " beat the ") +
              fixed(tip->accel_mps2 / kGravity, 2) +
@@ -178,18 +192,21 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
             weakest_of(bounds, across, FailureMode::top_item_slide, item, Mechanism::stack_tip);
         std::string s = name + " tipped over" + when + ", turning " +
                         fixed(event.item_tilt_deg, 1) + " deg and moving " +
-                        fixed(100.0 * event.value, 1) + " cm: " + demand_phrase(profile, demand);
+                        fixed(100.0 * event.value, 1) + " cm: " + phrase(felt(tip));
         s += tip ? " is more than the " + fixed(tip->accel_mps2 / kGravity, 2) +
                        " g its footprint holds"
                  : " rocked it over an edge";
         return s + "; restack it lower or wider.";
       }
+      const double local =
+          felt(weakest_of(bounds, across, FailureMode::top_item_slide, item,
+                          on_deck ? Mechanism::item_slip_on_deck : Mechanism::item_slip_on_item));
       std::string s = name + moved + ": ";
       if (demand > 0.0) {
-        s += demand_phrase(profile, demand) + " needs μ " + fixed(demand / kGravity, 2) + ", ";
+        s += phrase(local) + " needs μ " + fixed(local / kGravity, 2) + ", ";
       }
       s += key + " has " + fixed(has, 2) + at;
-      if (demand > 0.0 && demand / kGravity <= has) {
+      if (demand > 0.0 && local / kGravity <= has) {
         s += " (friction alone would hold: the load's own jolt moved it)";
       }
       return s + ".";

@@ -67,6 +67,12 @@ double ConveyorProfile::lateral_velocity_at(double t) const {
   return (curve_turn == CurveTurn::left ? 1.0 : -1.0) * lateral_accel_mps2() * s;
 }
 
+double ConveyorProfile::yaw_rate_at(double t) const {
+  if (shape != ProfileShape::curve || curve_radius_m <= 0.0) return 0.0;
+  if (t < curve_start_s || t >= curve_start_s + curve_duration(*this)) return 0.0;
+  return (curve_turn == CurveTurn::left ? 1.0 : -1.0) * target_speed_mps / curve_radius_m;
+}
+
 namespace {
 
 // Every time the commanded acceleration changes, whether or not the run reaches it.

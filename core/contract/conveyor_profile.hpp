@@ -42,6 +42,10 @@ struct ConveyorProfile {
   double velocity_at(double t) const;
   /// Commanded belt velocity along Y (non-zero only for curve).
   double lateral_velocity_at(double t) const;
+  /// How fast the belt, and a load riding it, turns about Z during the step that starts at t:
+  /// v / r during a curve's arc (positive in a left turn), 0 otherwise. Its frame turns with it
+  /// (physics/turning_frame.hpp).
+  double yaw_rate_at(double t) const;
   /// The speed the load already has at t = 0 (estop and curve start at speed, riding along).
   double initial_speed_mps() const;
   /// Times in (0, duration_s) where the commanded acceleration changes, sorted: between two of

@@ -108,6 +108,7 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   const double after = last_breakpoint_ + dt_, end = profile_.duration_s;
   stops_early_ = o_.early_stop && profile_.velocity_at(after) == profile_.velocity_at(end) &&
                  profile_.lateral_velocity_at(after) == profile_.lateral_velocity_at(end);
+  if (profile_.shape == ProfileShape::curve) turning_.emplace(*m, l);
   belt_x0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
   belt_y0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
   if (auto problem = numerical_limits_problem(scene)) {
@@ -167,6 +168,18 @@ void ProbeRun::before_step(mjData& d) {
   d.ctrl[l.belt_y_act] = profile_.lateral_velocity_at(t_next);
   command_x_ = d.ctrl[l.belt_x_act];
   command_y_ = d.ctrl[l.belt_y_act];
+  if (turning_) {
+    const double omega = profile_.yaw_rate_at(k_ * dt_);
+    // The first step's positions are the rest state's (restored, not yet computed).
+    if (omega != 0.0 && k_ == 0) mj_kinematics(scene_->model.get(), &d);
+    // The turning axis: the pallet's as-built centre (x = y = 0), carried by the belt.
+    const mjtNum* belt = d.xpos + 3 * l.belt_body;
+    const double axis[2] = {belt[0] - belt_x0_, belt[1] - belt_y0_};
+    const double belt_v[2] = {d.qvel[l.belt_x_dof], d.qvel[l.belt_y_dof]};
+    const double belt_a[2] = {(command_x_ - profile_.velocity_at(k_ * dt_)) / dt_,
+                              (command_y_ - profile_.lateral_velocity_at(k_ * dt_)) / dt_};
+    turning_->apply(*scene_->model, d, omega, axis, belt_v, belt_a);
+  }
 }
 
 int ProbeRun::plan_skip() const {

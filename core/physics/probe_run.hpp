@@ -15,6 +15,7 @@
 #include "core/physics/detectors.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/sim_types.hpp"
+#include "core/physics/turning_frame.hpp"
 
 namespace pb {
 
@@ -120,6 +121,7 @@ class ProbeRun {
   double skip_dx_ = 0.0, skip_dy_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
   bool done_ = false;
   std::vector<Pose> items_;
+  std::optional<TurningFrame> turning_;  ///< a curve's: the belt's frame turns with it
 };
 
 }  // namespace pb

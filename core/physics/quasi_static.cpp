@@ -60,24 +60,31 @@ bool QuasiStaticBounds::one_body() const {
          std::all_of(across.begin(), across.end(), whole);
 }
 
+double curve_demand_factor(const QuasiStaticLimit& m, double radius_m) {
+  if (!(radius_m > 0.0)) return 1.0;
+  const double lateral = 1.0 + std::abs(m.offset_y_m) / radius_m;
+  const bool tip = m.mechanism == Mechanism::load_tip || m.mechanism == Mechanism::stack_tip;
+  return tip ? lateral : std::hypot(lateral, m.offset_x_m / radius_m);
+}
+
 QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction) {
   QuasiStaticBounds out;
   const double g = kGravity;
   const double mu_belt = friction.belt_pallet.mu_s;
+  const Vec3 com = composite_com_m(config);
   for (auto* list : {&out.along, &out.across}) {
     list->push_back({mu_belt * g, FailureMode::pallet_slip, Mechanism::pallet_slip,
                      "the pallet slips on the belt (mu " + fixed(mu_belt, 2) + ")", -1,
-                     std::min(friction.belt_pallet.mu_d, mu_belt) * g});
+                     std::min(friction.belt_pallet.mu_d, mu_belt) * g, com[0], com[1]});
   }
   // The whole load over the pallet's edge (the pallet's bottom is the pivot).
-  const Vec3 com = composite_com_m(config);
   if (com[2] > 0.0) {
     out.along.push_back({g * (config.base_dims_m[0] / 2 - std::abs(com[0])) / com[2],
                          FailureMode::tip_over, Mechanism::load_tip,
-                         "the loaded pallet tips over its edge", -1});
+                         "the loaded pallet tips over its edge", -1, 0.0, com[0], com[1]});
     out.across.push_back({g * (config.base_dims_m[1] / 2 - std::abs(com[1])) / com[2],
                           FailureMode::tip_over, Mechanism::load_tip,
-                          "the loaded pallet tips over its edge", -1});
+                          "the loaded pallet tips over its edge", -1, 0.0, com[0], com[1]});
   }
   if (config.wrap != WrapType::none) return out;
 
@@ -96,13 +103,6 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     const double mu = on_deck ? friction.item_pallet.mu_s : friction.item_item.mu_s;
     const double mu_d = std::min(mu, on_deck ? friction.item_pallet.mu_d : friction.item_item.mu_d);
     const std::string name = "item " + std::to_string(i);
-    for (auto* list : {&out.along, &out.across}) {
-      list->push_back({mu * g, FailureMode::top_item_slide,
-                       on_deck ? Mechanism::item_slip_on_deck : Mechanism::item_slip_on_item,
-                       name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
-                           fixed(mu, 2) + ")",
-                       static_cast<int>(i), mu_d * g});
-    }
     // The sub-stack item i carries tips over item i's bottom edge: i and whatever rests on it
     // alone, directly or not. An item that also rests on something outside (a brick bridging two
     // cartons) is held there and does not go over with i: counted in, a bricked layer made the
@@ -135,6 +135,14 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
     }
     const double h = moment_z / mass - item.position[2];
     const double cx = moment_x / mass, cy = moment_y / mass;
+    // Item i's friction holds the sub-stack: its slip moves that mass too.
+    for (auto* list : {&out.along, &out.across}) {
+      list->push_back({mu * g, FailureMode::top_item_slide,
+                       on_deck ? Mechanism::item_slip_on_deck : Mechanism::item_slip_on_item,
+                       name + " slips on " + (on_deck ? "the deck" : "the item below") + " (mu " +
+                           fixed(mu, 2) + ")",
+                       static_cast<int>(i), mu_d * g, cx, cy});
+    }
     // Either way along the plane (a start-up and a stop, a left and a right turn): the nearer edge.
     const double along =
         std::min(exit_distance(item, cx, cy, 1.0, 0.0), exit_distance(item, cx, cy, -1.0, 0.0));
@@ -142,9 +150,9 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
         std::min(exit_distance(item, cx, cy, 0.0, 1.0), exit_distance(item, cx, cy, 0.0, -1.0));
     const std::string what = "the stack from " + name + " up tips over its edge";
     out.along.push_back({g * along / h, FailureMode::top_item_slide, Mechanism::stack_tip, what,
-                         static_cast<int>(i)});
+                         static_cast<int>(i), 0.0, cx, cy});
     out.across.push_back({g * across / h, FailureMode::top_item_slide, Mechanism::stack_tip, what,
-                          static_cast<int>(i)});
+                          static_cast<int>(i), 0.0, cx, cy});
   }
   return out;
 }

@@ -28,7 +28,18 @@ struct QuasiStaticLimit {
   /// A slip's deceleration once it slides, mu_d g (kinetic friction; step.hpp): how far it slides
   /// past the onset. 0 for a tip, and wherever it is the onset itself.
   double sliding_mps2 = 0.0;
+  /// Where the mass it moves has its centre, from the pallet's centre (X, Y), m: the pallet's and
+  /// the whole load's, the load's; an item's slip and its sub-stack's tip, that sub-stack's. A
+  /// curve turns the load about its centre, adding to the demand there (curve_demand_factor).
+  double offset_x_m = 0.0, offset_y_m = 0.0;
 };
+
+/// How much more than the centre line's v^2 / r a curve of `radius_m` demands of mechanism `m`
+/// (turning_frame.hpp): omega^2 d on top of it at its mass's offset d, outboard in the turn that
+/// pushes it towards its nearer side. A slip is pushed by the whole horizontal demand,
+/// |(r + |y|, x)| / r (the friction pyramids are turned along it: step.hpp's DemandField); a tip
+/// across the belt by its lateral part, (r + |y|) / r.
+double curve_demand_factor(const QuasiStaticLimit& m, double radius_m);
 
 struct QuasiStaticBounds {
   std::vector<QuasiStaticLimit> along;   ///< every mechanism along the belt (X)

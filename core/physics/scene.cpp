@@ -238,7 +238,7 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\" jacobian=\"sparse\" impratio=\"" << num(o.impratio) << "\" iterations=\"" << o.iterations
     << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
     << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
-    << "\" nuserdata=\"" << kFrictionStateSlots * plan.pairs.size() << "\"/>\n"
+    << "\" nuserdata=\"" << kFrictionStateSlots * plan.pairs.size() + kDemandFieldSlots << "\"/>\n"
     << (o.aftermath ? "  <default><geom contype=\"1\" conaffinity=\"1\" condim=\"3\" solref=\"" +
                           nums(o.contact_solref) + "\" solimp=\"" + nums(o.contact_solimp) +
                           "\"/></default>\n"

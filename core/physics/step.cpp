@@ -145,7 +145,47 @@ void coulomb_friction(const mjModel* m, mjData* d) {
   }
 }
 
+// The field's slots, after the pairs', or null.
+mjtNum* field_slots(const mjModel* m, mjData* d) {
+  const int at = kFrictionStateSlots * m->npair;
+  return m->nuserdata >= at + kDemandFieldSlots ? d->userdata + at : nullptr;
+}
+
+// After mj_collision: each level contact's first tangent direction along the stated field at it
+// (DemandField), the second completing a right-handed frame with the normal.
+void align_pyramids(const mjModel* m, mjData* d) {
+  const mjtNum* f = field_slots(m, d);
+  if (f == nullptr || (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0)) return;
+  for (int i = 0; i < d->ncon; ++i) {
+    mjContact& c = d->contact[i];
+    mjtNum* n = c.frame;
+    if (c.dim < 3 || std::abs(n[2]) < kLevelContactNz) continue;
+    const double u[3] = {f[0] + f[2] * (c.pos[0] - f[3]), f[1] + f[2] * (c.pos[1] - f[4]), 0.0};
+    const double un = u[0] * n[0] + u[1] * n[1];
+    double t[3] = {u[0] - un * n[0], u[1] - un * n[1], -un * n[2]};
+    const double norm = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    if (!(norm > 1e-9)) continue;
+    for (double& x : t) x /= norm;
+    mjtNum* t1 = n + 3;
+    mjtNum* t2 = n + 6;
+    for (int k = 0; k < 3; ++k) t1[k] = t[k];
+    t2[0] = n[1] * t[2] - n[2] * t[1];
+    t2[1] = n[2] * t[0] - n[0] * t[2];
+    t2[2] = n[0] * t[1] - n[1] * t[0];
+  }
+}
+
 }  // namespace
+
+void set_demand_field(const mjModel* m, mjData* d, const DemandField& field) {
+  mjtNum* f = field_slots(m, d);
+  if (f == nullptr) return;
+  f[0] = field.ax;
+  f[1] = field.ay;
+  f[2] = field.w2;
+  f[3] = field.cx;
+  f[4] = field.cy;
+}
 
 void step(const mjModel* m, mjData* d) {
   if (m->opt.integrator != mjINT_EULER || mjENABLED(mjENBL_FWDINV) || mjcb_control != nullptr) {
@@ -163,6 +203,7 @@ void step(const mjModel* m, mjData* d) {
   mj_crb(m, d);
   mj_factorM(m, d);
   mj_collision(m, d);
+  align_pyramids(m, d);
   coulomb_friction(m, d);
   mj_makeConstraint(m, d);
   mj_transmission(m, d);

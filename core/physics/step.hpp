@@ -33,12 +33,40 @@ inline constexpr double kBreakLooseM = 0.00025;
 /// 1-2 mm/s under a sustained load inside the cone (MUJOCO_2_2_NOTES 3a).
 inline constexpr double kStickMps = 0.002;
 
+/// The horizontal acceleration field a load riding the belt is pushed by, where the step's caller
+/// knows it (a curve: the belt's acceleration and the turning's centrifugal part,
+/// turning_frame.hpp): a(p) = (ax, ay) + w2 (p - (cx, cy)) at a point p (world X, Y).
+///
+/// MuJoCo's pyramidal friction cone bounds |f_1| + |f_2| by mu N in its contact's two tangent
+/// directions, which MuJoCo lays along the world axes for a level contact: Coulomb's mu N for a
+/// demand along an axis (a start-up, a stop, a curve's centre line), 1 / (|cos t| + |sin t|) of it
+/// for one t off them (5 % less at 3 degrees, 29 % at 45). A curve that turns the load pushes
+/// off-centre masses a few degrees off the axes (stable-dairy-slab, its load 0.2 m behind the
+/// pallet's centre on a 3 m curve: 3.4 degrees, which took its curve limit from 0.332 to 0.313 g).
+/// With a field stated, step() turns each level contact's tangent directions about its normal so
+/// the first lies along the field there, where the pyramid holds Coulomb's mu N. The field is kept
+/// in mjData::userdata after the pairs' slots (the scene sizes nuserdata for it), so it travels
+/// with the data and its captured states; all zero (as after the settle): none, and the contacts'
+/// frames are MuJoCo's.
+struct DemandField {
+  double ax = 0.0, ay = 0.0;  ///< m/s^2 at the centre
+  double w2 = 0.0;            ///< 1/s^2: the turning's omega^2
+  double cx = 0.0, cy = 0.0;  ///< the centre, m
+};
+inline constexpr int kDemandFieldSlots = 5;
+/// Writes `field` into `d` for the steps that follow (no effect on a model without the slots).
+void set_demand_field(const mjModel* m, mjData* d, const DemandField& field);
+/// A contact this close to level (|normal_z| at least this) is turned along a stated field; a
+/// side contact between neighbours is pushed along its normal and keeps MuJoCo's frame.
+inline constexpr double kLevelContactNz = 0.7;
+
 /// mj_step for the Euler integrator (the only one the scenes use; any other is stepped by
 /// mj_step itself), with each pair contact's sliding coefficient set between collision detection
 /// and constraint construction: the pair's static coefficient (friction[0]) while it holds, its
 /// kinetic one (friction[2], which a condim-3 contact does not otherwise use) once it has broken
 /// loose, until it sticks again. A contact whose friction[4] does not name a pair (the aftermath
-/// model's geom contacts) is left as MuJoCo made it. While no pair has broken loose the step is
+/// model's geom contacts) is left as MuJoCo made it. Level contacts' tangent directions follow a
+/// stated DemandField. While no pair has broken loose and no field is stated the step is
 /// mj_step's, bit for bit.
 void step(const mjModel* m, mjData* d);
 

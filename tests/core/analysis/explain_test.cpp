@@ -5,6 +5,8 @@
 
 #include <QtTest>
 
+#include <cmath>
+
 #include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "tests/core/test_pallets.hpp"
@@ -107,6 +109,27 @@ class ExplainTest : public QObject {
     const std::string s =
         explain_failure(c, startup(0.5), failure(FailureMode::top_item_slide, {1}));
     QVERIFY2(q(s).contains(QStringLiteral("friction alone would hold")), s.c_str());
+  }
+
+  // In a curve an item off the centre line rides at its own radius (turning_frame.hpp): two cartons
+  // 0.3 m outboard on a 1 m left curve at 0.30 g feel 1.3 times it, 0.39 g, which is what their
+  // friction is measured against; on the centre line the sentence is the centre line's.
+  void aCurveNamesTheDemandWhereTheItemRides() {
+    PalletConfig c = two_high();
+    for (Item& item : c.items) item.position[1] = -0.3;
+    ConveyorProfile p;
+    p.shape = ProfileShape::curve;
+    p.curve_radius_m = 1.0;
+    p.target_speed_mps = std::sqrt(0.30 * 9.81 * 1.0);
+    const std::string s = explain_failure(c, p, failure(FailureMode::top_item_slide, {1}));
+    QVERIFY2(q(s).contains(QStringLiteral(
+                 "the curve's 0.30 g (0.39 g where it rides: the curve turns the load) needs "
+                 "μ 0.39")),
+             s.c_str());
+    const std::string centred =
+        explain_failure(two_high(), p, failure(FailureMode::top_item_slide, {1}));
+    QVERIFY2(q(centred).contains(QStringLiteral("the curve's 0.30 g needs μ 0.30")),
+             centred.c_str());
   }
 
   // A carton that moved its 5 cm by turning over an edge (detectors.hpp: item_tipped) is said to
