@@ -70,7 +70,9 @@ struct PreparedPallet {
   FidelityChoice fidelity;  ///< the model level of `scene` (reduced or full), and why
   double prepare_ms = 0.0;  ///< compile + settle wall time
   /// The envelope searches' models along the belt and across it ([0], [1]) where the load reduces
-  /// by symmetry (AnalyzerOptions::symmetry_reduction); null: the probes run on `scene`.
+  /// by symmetry (AnalyzerOptions::symmetry_reduction); null: the probes run on `scene`. Across
+  /// the belt it never does any more: a curve turns the load (turning_frame.hpp), so copies side
+  /// by side along the belt are not alike in a curve (Analyzer::prepare).
   std::array<std::unique_ptr<PlaneModel>, 2> planes;
   /// The same scene with whatever touches colliding (SceneOptions::aftermath), compiled the first
   /// time a solve fails, to follow the wreck; `aftermath_problem` says why there is none.
@@ -143,6 +145,9 @@ class Analyzer {
   /// the load does not reduce or the reduced model cannot be settled (the full model then runs).
   std::unique_ptr<PlaneModel> plane_model(const PalletConfig& config, ProbePlane plane,
                                           const SceneOptions& scene_options);
+
+  /// The line's curve radius against this pallet (validate_curve_radius at /line/curve_radius_m).
+  Diagnostics line_radius_problem(const PalletConfig& config) const;
 
   /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops
   /// its prepared scene and says to run again; false when `why` is something else or the buffers

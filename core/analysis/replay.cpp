@@ -85,6 +85,16 @@ ReplayFrame frame_at(const Replay& replay, double t) {
   return out;
 }
 
+Json failure_to_json(const std::optional<FailureEvent>& failure) {
+  if (!failure) return nullptr;
+  Json j = {{"mode", to_string(failure->mode)},
+            {"time_s", failure->time_s},
+            {"value", failure->value},
+            {"items", failure->items}};
+  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
+  return j;
+}
+
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -109,16 +119,6 @@ Json frame_to_json(const ReplayFrame& frame) {
                                 rounded(frame.belt_y, kPositionScale)})},
           {"pallet", pose_to_json(frame.pallet)},
           {"items", std::move(items)}};
-}
-
-Json failure_to_json(const std::optional<FailureEvent>& failure) {
-  if (!failure) return nullptr;
-  Json j = {{"mode", to_string(failure->mode)},
-            {"time_s", failure->time_s},
-            {"value", failure->value},
-            {"items", failure->items}};
-  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
-  return j;
 }
 
 // ---------------------------------------------------------------------------------------------

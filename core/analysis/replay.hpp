@@ -62,8 +62,13 @@ Replay as_built_replay(const PalletConfig& pallet);
 /// the first and last frames (returned exactly). No frames gives a default frame.
 ReplayFrame frame_at(const Replay& replay, double t);
 
-/// Writes "schema_version", "pallet", "profile", "outcome", "failure" (null or {"mode", "time_s",
-/// "value", "items"}), "hz" and "frames": [{"t", "belt": [x, y], "pallet": [x, y, z, qw, qx, qy,
+/// A failure as every JSON document carries it: null, or {"mode", "time_s", "value", "items"} and
+/// for a top_item_slide "item_tilt_deg" (result_json.hpp's failure_event_to_json adds a
+/// description).
+Json failure_to_json(const std::optional<FailureEvent>& failure);
+
+/// Writes "schema_version", "pallet", "profile", "outcome", "failure" (failure_to_json), "hz" and
+/// "frames": [{"t", "belt": [x, y], "pallet": [x, y, z, qw, qx, qy,
 /// qz], "items": [[x, y, z, qw, qx, qy, qz], ...]}]. Positions and belt travel are rounded to
 /// 0.01 mm and quaternion components to 1e-6 (display precision; the failure's values and the
 /// times stay exact), so to_json(from_json(to_json(r))) == to_json(r).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "core/analysis/replay.hpp"
 #include "core/contract/pallet_metrics.hpp"
 
 namespace pb {
@@ -34,13 +35,8 @@ Json validation_report_to_json(const PalletConfig& config, const Diagnostics& di
 }
 
 Json failure_event_to_json(const std::optional<FailureEvent>& failure) {
-  if (!failure) return nullptr;
-  Json j = {{"mode", to_string(failure->mode)},
-            {"time_s", failure->time_s},
-            {"value", failure->value},
-            {"items", failure->items},
-            {"description", describe(*failure)}};
-  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
+  Json j = failure_to_json(failure);
+  if (failure) j["description"] = describe(*failure);
   return j;
 }
 

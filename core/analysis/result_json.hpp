@@ -30,7 +30,7 @@ Json diagnostics_to_json(const Diagnostics& diagnostics);
 Json validation_report_to_json(const PalletConfig& config, const Diagnostics& diagnostics,
                                std::size_t max_items = ValidationLimits{}.max_items);
 
-/// null, or {"mode", "time_s", "value", "items", "description"}.
+/// replay.hpp's failure_to_json with a "description".
 Json failure_event_to_json(const std::optional<FailureEvent>& failure);
 
 /// One simulation of `profile`: "outcome", "failure", "reason" (unstable only), "aftermath_cut"

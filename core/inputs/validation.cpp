@@ -497,4 +497,23 @@ Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits,
   return c.out;
 }
 
+Diagnostics validate_curve_radius(const PalletConfig& config, double radius_m,
+                                  const std::string& pointer) {
+  double half_width = config.base_dims_m[1] / 2;
+  for (const Item& item : config.items) {
+    for (const Vec2& corner : item_footprint(item)) {
+      half_width = std::max(half_width, std::abs(corner[1]));
+    }
+  }
+  if (radius_m > half_width) return {};
+  return {{pointer,
+           "a curve of radius " + short_number(radius_m) +
+               " m would turn this pallet about a "
+               "point under it (it reaches " +
+               short_number(half_width) +
+               " m from the belt's centre line); give the line's curves a radius of more than " +
+               short_number(half_width) + " m",
+           Severity::error}};
+}
+
 }  // namespace pb

@@ -56,4 +56,11 @@ struct ValidationLimits {
 Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits = {},
                      const Catalog* catalog = nullptr);
 
+/// A curve turns the pallet about its centre (physics/turning_frame.hpp). A radius no larger than
+/// the pallet's half-width across the belt (its load's overhang included) would put the curve's
+/// centre under the pallet, which no conveyor does: an error at `pointer` naming the least radius
+/// this pallet takes, or nothing. For a pallet validate() accepts.
+Diagnostics validate_curve_radius(const PalletConfig& config, double radius_m,
+                                  const std::string& pointer);
+
 }  // namespace pb

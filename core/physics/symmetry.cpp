@@ -127,19 +127,14 @@ std::optional<LoadReduction> reduce_symmetric_stacks(const PalletConfig& config,
   // load. Moved to the group's mean instead, a stack sat where no stack of the load stands, and
   // MuJoCo's box-box contacts there made its cartons slide less (four two-high columns: a start-up
   // limit 4.5 search steps above the whole load's; kept in place, 1.5 steps below it).
-  // Across the belt, copies are not quite alike: a curve turns the load and pushes each along the
-  // belt by omega^2 x (turning_frame.hpp), which the pyramidal friction cone adds to the lateral
-  // demand (|x| / r of it: 13 % at 0.4 m on a 3 m curve). There the copy farthest from the
-  // centre along the belt is kept (the rearmost among equals): the one the curve demands most of.
-  auto order = [&](std::size_t s) {
-    return along ? std::make_tuple(0LL, um(stacks[s].y), stacks[s].items.front())
-                 : std::make_tuple(-um(std::abs(stacks[s].x)), um(stacks[s].x),
-                                   stacks[s].items.front());
-  };
   std::vector<int> kept;
   for (const auto& [key, members] : groups) {
-    const std::size_t s = *std::min_element(members.begin(), members.end(),
-                                            [&](auto a, auto b) { return order(a) < order(b); });
+    const std::size_t s = *std::min_element(members.begin(), members.end(), [&](auto a, auto b) {
+      const double ca = along ? stacks[a].y : stacks[a].x;
+      const double cb = along ? stacks[b].y : stacks[b].x;
+      return std::make_pair(um(ca), stacks[a].items.front()) <
+             std::make_pair(um(cb), stacks[b].items.front());
+    });
     kept.insert(kept.end(), stacks[s].items.begin(), stacks[s].items.end());
   }
   std::sort(kept.begin(), kept.end());

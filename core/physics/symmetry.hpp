@@ -4,7 +4,10 @@
 //
 // A probe along the belt (start-up, stop, e-stop) pushes every item along X: two identical stacks
 // at the same X and different Y are driven alike, carry alike and pitch alike, so in the X-Z plane
-// one stands for both. A curve pushes along Y: the same holds for identical stacks at the same Y.
+// one stands for both. A curve pushes along Y: the same would hold for identical stacks at the
+// same Y, but a curve also turns the load (turning_frame.hpp), pushing stacks at different X
+// differently, so the Analyzer reduces probes along the belt only (ProbePlane::across is kept for
+// the geometry and its tests).
 // The reduced load keeps one stack of each such group, where it stands, on a pallet of 1/m of the
 // tare (m copies a group): every body then carries 1/m of the whole load's weight, friction and
 // momentum in the plane, so the pallet slips, pitches and carries its stacks as the whole load
