@@ -484,6 +484,26 @@ class ValidationTest : public QObject {
     QVERIFY(d[0].message.find("400") != std::string::npos);
     QVERIFY(!has_errors(validate(test::pallet({test::carton(0, 0, 0.15)}))));
   }
+
+  // A curve turns the pallet about its centre: a radius no wider than the pallet's half-width
+  // across the belt (0.4 m for an EUR pallet; an overhanging carton's reach where it is wider)
+  // would turn it about a point under it, and is refused with the least radius it takes.
+  void aCurveRadiusMustClearThePallet() {
+    const PalletConfig eur = test::pallet({test::carton(0.0, 0.0, 0.15)});
+    QVERIFY(validate_curve_radius(eur, 0.41, "/line/curve_radius_m").empty());
+    const Diagnostics tight = validate_curve_radius(eur, 0.4, "/line/curve_radius_m");
+    QCOMPARE(tight.size(), std::size_t{1});
+    QCOMPARE(tight[0].pointer, std::string("/line/curve_radius_m"));
+    QVERIFY(has_errors(tight));
+    QVERIFY2(tight[0].message.find("more than 0.4 m") != std::string::npos,
+             tight[0].message.c_str());
+    // A 0.3 m wide carton centred 0.3 m off the centre line reaches 0.45 m.
+    const PalletConfig over = test::pallet({test::carton(0.0, -0.3, 0.15)});
+    const Diagnostics wide = validate_curve_radius(over, 0.42, "/profile/curve_radius_m");
+    QCOMPARE(wide.size(), std::size_t{1});
+    QVERIFY2(wide[0].message.find("more than 0.45 m") != std::string::npos,
+             wide[0].message.c_str());
+  }
 };
 
 QTEST_APPLESS_MAIN(ValidationTest)
