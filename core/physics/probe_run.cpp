@@ -373,7 +373,8 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
   if (want_stop) {
     comove_steps_ = comoving ? comove_steps_ + 1 : 0;
-    calm_steps_ = !comoving && below_barrier(m, d, belt, readings) ? calm_steps_ + 1 : 0;
+    calm_steps_ =
+        o_.energy_stop && !comoving && below_barrier(m, d, belt, readings) ? calm_steps_ + 1 : 0;
     if (comove_steps_ >= comove_needed_ || calm_steps_ >= calm_needed_) {
       r_.stopped_early = k < n_steps_;
       finish(m, d);

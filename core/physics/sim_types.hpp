@@ -76,6 +76,11 @@ struct SimOptions {
   /// Stop once the load co-moves with the belt after the last breakpoint (only where the belt then
   /// moves at constant velocity: a run that ends mid-ramp or mid-curve is stepped to its end).
   bool early_stop = true;
+  /// With early_stop: also stop once the load's energy relative to the belt stays below what any
+  /// detector still needs (probe_run.cpp: below_barrier), which decides a run while a slide that
+  /// cannot reach its threshold still coasts. Off where the motion is shown (Analyzer::solve's
+  /// replay runs until the load co-moves, so the replay shows where the slide ends).
+  bool energy_stop = true;
   double comove_speed_mps = 0.001;  ///< co-moving: every body within this of the belt's velocity
   double comove_spin_radps = 0.01;
   bool record_trace = true;  ///< keep every step's poses (replays, plots); off for searches

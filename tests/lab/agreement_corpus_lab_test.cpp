@@ -3,12 +3,12 @@
 // reference configuration on the three small unwrapped curated scenarios, frozen-pallet-jerk-start
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
-// only (about two minutes on 2 cores). Pinned at what was measured when friction became Coulomb's
-// and every reference was recomputed (2026-11-26, core/physics/step.hpp), with each answer checked
-// a step below (core/analysis/axis_search.hpp): 86 of the 96 limits (89.6 %) within one search
-// step, 1 more than one step above the reference (asymmetric-load's stop, +1.94: a demand where a
-// rocking column breaks an item loose or not by chance; the corpus README). Before the friction
-// changed, against the old references: 91 / 96, 0 above. Labelled long.
+// only (about two minutes on 2 cores). Pinned at what was measured when curves began to turn the
+// load and every reference was recomputed again (session 15, core/physics/turning_frame.hpp): 89
+// of the 96 limits (92.7 %) within one search step, 1 more than one step above the reference
+// (asymmetric-load's stop, +1.94: a demand where a rocking column breaks an item loose or not by
+// chance; the corpus README). With Coulomb friction and curves that did not turn (session 14):
+// 86 / 96, 1 above; before friction changed: 91 / 96, 0 above. Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -63,7 +63,7 @@ class AgreementCorpusLabTest : public QObject {
     const int above = def.value("limits_above").toInt();
     qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
           100.0 * within, above);
-    QVERIFY2(within >= 0.89, qPrintable(QString::number(within)));
+    QVERIFY2(within >= 0.92, qPrintable(QString::number(within)));
     QVERIFY2(above <= 1, qPrintable(QString::number(above)));
   }
 };

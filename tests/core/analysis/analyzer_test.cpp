@@ -193,6 +193,48 @@ class AnalyzerTest : public QObject {
     QVERIFY(p.scene->mjcf.find("contype=\"1\"") == std::string::npos);  // searches: pairs only
   }
 
+  // A safe run's replay shows the slide to its end. A search's probe of frozen-meat-sprint at 1.4
+  // m/s and 3.2 m/s^2 stops on energy while the pallet still slips (what is left cannot carry it
+  // to the 0.3 m threshold: SimOptions::energy_stop); solve runs on until the load rides with the
+  // belt, with the same verdict (the CI screenshot's replay ended at 0.55 s, 19.5 cm in, rising).
+  void aSafeSolveShowsTheSlideToItsEnd() {
+    const auto meat = load_scenario("frozen-meat-sprint");
+    QVERIFY(meat);
+    ConveyorProfile profile;
+    profile.shape = ProfileShape::accel_hold;
+    profile.target_speed_mps = 1.4;
+    profile.accel_mps2 = 3.2;
+    profile.duration_s = 3.0;
+    Analyzer analyzer;
+    auto prepared = analyzer.prepare(meat->pallet);
+    QVERIFY2(prepared, describe(prepared.diagnostics).c_str());
+    PreparedPallet& p = **prepared.value;
+    SimOptions o = analyzer.options().sim;
+    o.record_trace = true;
+    const SimResult probe = p.simulator->run(p.rest, profile, o);
+    const auto solved = analyzer.solve(meat->pallet, profile);
+    QVERIFY2(solved, describe(solved.diagnostics).c_str());
+    const SimResult& shown = solved->sim;
+    QCOMPARE(probe.outcome, Outcome::safe);
+    QCOMPARE(shown.outcome, Outcome::safe);
+    // The pallet's slip behind the belt over the last 20 ms of each run.
+    auto creeping = [](const SimResult& r) {
+      const Trace& t = r.trace;
+      const std::size_t last = t.size() - 1, before = last - 20;
+      const double now = t.belt(last).x - t.pallet(last).pos[0];
+      const double then = t.belt(before).x - t.pallet(before).pos[0];
+      return std::abs(now - then);
+    };
+    qInfo(
+        "probe ends at %.3f s (slip changing %.1f mm in its last 20 frames), solve at %.3f s "
+        "(%.3f mm)",
+        probe.sim_time_s, 1e3 * creeping(probe), shown.sim_time_s, 1e3 * creeping(shown));
+    QVERIFY(probe.stopped_early && shown.stopped_early);
+    QVERIFY(shown.sim_time_s > probe.sim_time_s);
+    QVERIFY(creeping(probe) > 1e-3);
+    QVERIFY(creeping(shown) < 1e-4);
+  }
+
   // Progress: an envelope reports each probe as it ends, and each limit as it is found, from its
   // axis threads; it ends with done == planned == its simulations. A failure map plans its cells
   // exactly from the first report.
