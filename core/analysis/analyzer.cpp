@@ -78,6 +78,8 @@ SceneOptions Analyzer::scene_options_for(const FidelityChoice& choice) const {
                          std::none_of(o.rigid_carrier.begin(), o.rigid_carrier.end(),
                                       [](int c) { return c == kFreeItem; }));
   if (!one_body && options_.full_model_timestep_s) o.timestep_s = *options_.full_model_timestep_s;
+  if (!one_body && options_.full_model_solref_s)
+    o.contact_solref[0] = *options_.full_model_solref_s;
   return o;
 }
 

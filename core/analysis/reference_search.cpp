@@ -13,6 +13,7 @@ AnalyzerOptions reference_search_options() {
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
   o.full_model_timestep_s.reset();
+  o.full_model_solref_s.reset();
   o.sim.early_stop = false;
   o.sim.skip_comoving = false;
   return o;

@@ -243,6 +243,7 @@ std::vector<StabilityRow> run_stability_study(const std::vector<StabilityCase>& 
     AnalyzerOptions options;
     options.scene = c.scene;
     options.full_model_timestep_s.reset();  // the case's numerics exactly as written
+    options.full_model_solref_s.reset();
     row.probes = run_probes(options, pallet, stability_probes_lateral(c.pallet), it->second.accels);
     row.wall_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

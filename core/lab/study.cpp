@@ -110,7 +110,8 @@ AnalyzerOptions at(Fidelity fidelity, double timestep_s) {
   AnalyzerOptions o;
   o.fidelity = fidelity;
   o.scene.timestep_s = timestep_s;
-  o.full_model_timestep_s.reset();  // the configuration's timestep for every level
+  o.full_model_timestep_s.reset();  // the configuration's numerics for every level
+  o.full_model_solref_s.reset();
   return o;
 }
 
@@ -121,6 +122,7 @@ AnalyzerOptions reference_options() {
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.0005;
   o.full_model_timestep_s.reset();
+  o.full_model_solref_s.reset();
   o.scene.contact_solref = {0.005, 1.0};
   o.scene.iterations = 1000;
   o.scene.tolerance = 1e-12;
@@ -142,6 +144,7 @@ AnalyzerOptions reference_equivalent_options() {
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
   o.full_model_timestep_s.reset();
+  o.full_model_solref_s.reset();
   o.search.seed_with_closed_form = false;
   o.search.parallel_probes = 1;
   o.search.axis_threads = 1;  // one probe after another, as the reference system searched
@@ -195,6 +198,12 @@ std::vector<StudyConfig> study_configs() {
   AnalyzerOptions pgs = at(Fidelity::full, 0.002);
   pgs.scene.solver = Solver::pgs;
   out.push_back(make("full-2ms-pgs", "full model, 2 ms, PGS solver (slow)", pgs));
+  AnalyzerOptions soft_full;  // the shipped default before session 15: solref 0.02 at every level
+  soft_full.full_model_solref_s.reset();
+  out.push_back(make("default-solref-0.02",
+                     "shipped default with the full model's contacts as the reduced model's "
+                     "(solref 0.02)",
+                     soft_full));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;
@@ -268,6 +277,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   };
   // Only when set, so that the keys of cached reference envelopes (which leave it unset) hold.
   if (o.full_model_timestep_s) j["full_model_timestep_s"] = *o.full_model_timestep_s;
+  if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
   return fingerprint_json(j);
 }

@@ -96,6 +96,7 @@ class ReferenceSearchTest : public QObject {
     QCOMPARE(o.fidelity, Fidelity::full);
     QCOMPARE(o.scene.timestep_s, 0.002);
     QVERIFY(!o.full_model_timestep_s);
+    QVERIFY(!o.full_model_solref_s);
     QVERIFY(!o.sim.early_stop && !o.sim.skip_comoving);
   }
 };

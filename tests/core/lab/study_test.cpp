@@ -142,6 +142,7 @@ class StudyTest : public QObject {
     QVERIFY(differs([](AnalyzerOptions& o) { o.line.curve_radius_m = 5.0; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.full_model_timestep_s = 0.0005; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.full_model_timestep_s.reset(); }));
+    QVERIFY(differs([](AnalyzerOptions& o) { o.full_model_solref_s = 0.02; }));
     // Threads change the wall time, never the envelope: cached results stay valid.
     QVERIFY(!differs([](AnalyzerOptions& o) { o.search.axis_threads = 1; }));
   }
