@@ -52,14 +52,19 @@ SafetyResult without_runtime(SafetyResult r) {
   return r;
 }
 
-// A start-up hard enough to make the top carton slide (a failure event in the replay).
-ConveyorProfile hard_start() {
+// A start-up ramp to `speed` at `accel`, `duration_s` long.
+ConveyorProfile start_up(double speed, double accel, double duration_s) {
   ConveyorProfile p;
   p.shape = ProfileShape::accel_hold;
-  p.accel_mps2 = 5.0;
-  p.target_speed_mps = 1.5;
-  p.duration_s = 1.0;
+  p.accel_mps2 = accel;
+  p.target_speed_mps = speed;
+  p.duration_s = duration_s;
   return p;
+}
+
+// A start-up hard enough to make the top carton slide (a failure event in the replay).
+ConveyorProfile hard_start() {
+  return start_up(1.5, 5.0, 1.0);
 }
 
 bool same_trace(const Trace& a, const Trace& b) {
@@ -200,11 +205,7 @@ class AnalyzerTest : public QObject {
   void aSafeSolveShowsTheSlideToItsEnd() {
     const auto meat = load_scenario("frozen-meat-sprint");
     QVERIFY(meat);
-    ConveyorProfile profile;
-    profile.shape = ProfileShape::accel_hold;
-    profile.target_speed_mps = 1.4;
-    profile.accel_mps2 = 3.2;
-    profile.duration_s = 3.0;
+    const ConveyorProfile profile = start_up(1.4, 3.2, 3.0);
     Analyzer analyzer;
     auto prepared = analyzer.prepare(meat->pallet);
     QVERIFY2(prepared, describe(prepared.diagnostics).c_str());

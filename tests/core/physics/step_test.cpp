@@ -9,12 +9,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <string>
 
 #include "core/physics/quasi_static.hpp"
 #include "core/physics/simulate.hpp"
 #include "tests/core/test_friction.hpp"
+#include "tests/core/test_rig.hpp"
 
 using namespace pb;
 
@@ -25,12 +25,7 @@ constexpr double kDeck = 0.15;
 const test::ConstantMu kCoulomb{1.0, 0.4, 0.4, 0.75};  // carton on the deck: mu_s 0.4, mu_d 0.3
 const test::ConstantMu kStatic{1.0, 0.4, 0.4, 1.0};    // the same, one coefficient
 
-struct Rig {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Simulator> sim;
-  RestState rest;
-  std::string error;
-};
+using test::Rig;
 
 // A 10 kg carton (0.4 x 0.3 x 0.2 m, 2 g from tipping) on an EUR pallet, settled.
 Rig settled(const test::ConstantMu& mu) {
@@ -46,17 +41,7 @@ Rig settled(const test::ConstantMu& mu) {
   config.env = Environment::thawed;
   config.body_temp_c = 20.0;
   config.seconds_since_temp_change = 3600.0;
-  Rig rig;
-  auto scene = build_scene(config, {}, test::constant_friction(mu));
-  if (!scene) return {nullptr, nullptr, {}, "build_scene failed"};
-  rig.scene = std::make_unique<Scene>(std::move(*scene.value));
-  auto sim = Simulator::create(*rig.scene);
-  if (!sim) return {nullptr, nullptr, {}, "Simulator::create failed"};
-  rig.sim = std::make_unique<Simulator>(std::move(*sim.value));
-  auto rest = rig.sim->settle();
-  if (!rest) return {nullptr, nullptr, {}, "settle failed"};
-  rig.rest = std::move(*rest.value);
-  return rig;
+  return test::settled_rig(config, test::constant_friction(mu));
 }
 
 // The belt accelerates at `a` for `ramp_s`, then runs at a * ramp_s until `duration_s`.

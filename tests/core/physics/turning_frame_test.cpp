@@ -8,7 +8,6 @@
 #include <QtTest>
 
 #include <cmath>
-#include <memory>
 #include <numbers>
 #include <string>
 
@@ -16,6 +15,7 @@
 #include "core/physics/simulate.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
+#include "tests/core/test_rig.hpp"
 
 using namespace pb;
 
@@ -26,25 +26,10 @@ constexpr double kRadius = 1.0;
 constexpr double kDeck = 0.15;
 const test::ConstantMu kGrip{1.0, 0.4, 0.4, 1.0};  // carton on the deck: mu 0.4, one coefficient
 
-struct Rig {
-  std::unique_ptr<Scene> scene;
-  std::unique_ptr<Simulator> sim;
-  RestState rest;
-  std::string error;
-};
+using test::Rig;
 
 Rig settled(const Item& item) {
-  Rig rig;
-  auto scene = build_scene(test::pallet({item}), {}, test::constant_friction(kGrip));
-  if (!scene) return {nullptr, nullptr, {}, "build_scene failed"};
-  rig.scene = std::make_unique<Scene>(std::move(*scene.value));
-  auto sim = Simulator::create(*rig.scene);
-  if (!sim) return {nullptr, nullptr, {}, "Simulator::create failed"};
-  rig.sim = std::make_unique<Simulator>(std::move(*sim.value));
-  auto rest = rig.sim->settle();
-  if (!rest) return {nullptr, nullptr, {}, "settle failed"};
-  rig.rest = std::move(*rest.value);
-  return rig;
+  return test::settled_rig(test::pallet({item}), test::constant_friction(kGrip));
 }
 
 // A 1.5 s arc of the 1 m curve at the speed that gives `lateral_g` on the centre line.

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Test helper: a pallet's scene compiled, its simulator made and its load settled, for the physics
+// tests that drive Simulator::run themselves.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "core/physics/simulate.hpp"
+
+namespace pb::test {
+
+struct Rig {
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Simulator> sim;
+  RestState rest;
+  std::string error;  ///< what failed, empty when the rig is ready
+};
+
+inline Rig settled_rig(const PalletConfig& config, const FrictionModel& friction) {
+  Rig rig;
+  auto scene = build_scene(config, {}, friction);
+  if (!scene) return {nullptr, nullptr, {}, "build_scene failed"};
+  rig.scene = std::make_unique<Scene>(std::move(*scene.value));
+  auto sim = Simulator::create(*rig.scene);
+  if (!sim) return {nullptr, nullptr, {}, "Simulator::create failed"};
+  rig.sim = std::make_unique<Simulator>(std::move(*sim.value));
+  auto rest = rig.sim->settle();
+  if (!rest) return {nullptr, nullptr, {}, "settle failed"};
+  rig.rest = std::move(*rest.value);
+  return rig;
+}
+
+}  // namespace pb::test
