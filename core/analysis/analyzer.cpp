@@ -143,7 +143,8 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     // Not across the belt: a curve turns the load (turning_frame.hpp), pushing copies at the same
     // Y but different X differently along the belt and, at their own radius, apart; on the
     // unwrapped corpus the reduced curve searches landed 1-4 steps below the reference where the
-    // whole load's stayed within one (89 / 96 limits within a step against 87 / 96).
+    // whole load's stayed within one (89 / 96 limits within a step against 87 / 96, at the full
+    // model's solref 0.02 then).
     if (const PlaneModel* along = prepared->planes[0].get()) {
       choice.why += "; along the belt " + std::to_string(along->reduction.config.items.size()) +
                     " items stand for " + std::to_string(config.items.size()) + " (" +

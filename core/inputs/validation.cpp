@@ -506,13 +506,12 @@ Diagnostics validate_curve_radius(const PalletConfig& config, double radius_m,
     }
   }
   if (radius_m > half_width) return {};
+  const std::string reach = short_number(half_width) + " m";
   return {{pointer,
            "a curve of radius " + short_number(radius_m) +
-               " m would turn this pallet about a "
-               "point under it (it reaches " +
-               short_number(half_width) +
-               " m from the belt's centre line); give the line's curves a radius of more than " +
-               short_number(half_width) + " m",
+               " m would turn this pallet about a point under it (it reaches " + reach +
+               " from the belt's centre line); give the line's curves a radius of more than " +
+               reach,
            Severity::error}};
 }
 
