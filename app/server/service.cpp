@@ -87,10 +87,13 @@ Response refusal_response(const Refusal& refusal, const Ticket& ticket) {
   }
 }
 
-/// Core diagnostics of a pallet read at `prefix`: pointers moved into the request's document.
+/// Core diagnostics of a pallet read at `prefix`: pointers moved into the request's document. The
+/// Analyzer's "/profile/..." already is the request's profile (read at /profile), and
+/// "/line/..." the service's line (--curve-radius, --estop-decel): neither is the pallet's.
 Diagnostics located(Diagnostics diagnostics, const std::string& prefix) {
   for (auto& d : diagnostics) {
-    if (!d.pointer.empty()) d.pointer = prefix + d.pointer;
+    const bool outside = d.pointer.starts_with("/profile/") || d.pointer.starts_with("/line/");
+    if (!d.pointer.empty() && !outside) d.pointer = prefix + d.pointer;
   }
   return diagnostics;
 }

@@ -264,6 +264,21 @@ class ServiceRoutesTest : public QObject {
     QVERIFY(body_of(res)["errors"][0]["pointer"].get<std::string>().starts_with("/items/"));
   }
 
+  // A curve too tight for the pallet (its centre would lie under the pallet) is the profile's
+  // fault, pointed at in the request's own profile, not inside the pallet.
+  void a_curve_tighter_than_the_pallet_is_refused_at_the_profile() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    auto res = client_->Post("/v1/solve",
+                             R"({"profile": {"shape": "curve", "target_speed_mps": 1,
+                                 "curve_radius_m": 0.35}, "pallet": )" +
+                                 pallet + "}",
+                             kJson);
+    QCOMPARE(res->status, 422);
+    const Json error = body_of(res)["errors"][0];
+    QCOMPARE(error["pointer"].get<std::string>(), std::string("/profile/curve_radius_m"));
+    QVERIFY(error["message"].get<std::string>().find("more than 0.4 m") != std::string::npos);
+  }
+
   void bad_requests() {
     auto not_json = client_->Post("/safety/analyze", "{pallet", kJson);
     QCOMPARE(not_json->status, 400);
