@@ -32,4 +32,17 @@ inline Rig settled_rig(const PalletConfig& config, const FrictionModel& friction
   return rig;
 }
 
+/// Options that step and record every step of a run to its end, no detector firing (the trace is
+/// the measurement).
+inline SimOptions every_step() {
+  SimOptions o;
+  o.fail_fast = false;
+  o.early_stop = false;
+  o.skip_comoving = false;
+  o.record_trace = true;
+  o.thresholds = {
+      .tip_deg = 90.0, .item_slide_m = 10.0, .load_shift_m = 10.0, .pallet_slip_m = 10.0};
+  return o;
+}
+
 }  // namespace pb::test

@@ -56,14 +56,7 @@ ConveyorProfile ramp(double a, double ramp_s, double duration_s) {
 
 // Every step simulated and kept, no detector firing.
 SimResult run(Rig& rig, const ConveyorProfile& profile) {
-  SimOptions o;
-  o.fail_fast = false;
-  o.early_stop = false;
-  o.skip_comoving = false;
-  o.record_trace = true;
-  o.thresholds = {
-      .tip_deg = 90.0, .item_slide_m = 10.0, .load_shift_m = 10.0, .pallet_slip_m = 10.0};
-  return rig.sim->run(rig.rest, profile, o);
+  return rig.sim->run(rig.rest, profile, test::every_step());
 }
 
 // The carton's displacement in the pallet's frame (against the belt's motion: negative x) at frame

@@ -46,16 +46,10 @@ ConveyorProfile curve(double lateral_g, CurveTurn turn) {
   return p;
 }
 
-SimResult run(Rig& rig, const ConveyorProfile& profile, bool trace = false) {
+// A search's probe: detectors on, no trace.
+SimResult run(Rig& rig, const ConveyorProfile& profile) {
   SimOptions o;
-  o.record_trace = trace;
-  if (trace) {
-    o.fail_fast = false;
-    o.early_stop = false;
-    o.skip_comoving = false;
-    o.thresholds = {
-        .tip_deg = 90.0, .item_slide_m = 10.0, .load_shift_m = 10.0, .pallet_slip_m = 10.0};
-  }
+  o.record_trace = false;
   return rig.sim->run(rig.rest, profile, o);
 }
 
@@ -65,10 +59,8 @@ void goesAt(const Item& item, double onset_g, CurveTurn turn) {
   Rig rig = settled(item);
   QVERIFY2(rig.error.empty(), rig.error.c_str());
   const SimResult held = run(rig, curve(0.9 * onset_g, turn));
-  if (held.failure)
-    qInfo("held: mode %d at %.3f s, value %.4f tilt %.2f", int(held.failure->mode),
-          held.failure->time_s, held.failure->value, held.failure->item_tilt_deg);
-  QVERIFY2(held.outcome == Outcome::safe, held.reason.c_str());
+  QVERIFY2(held.outcome == Outcome::safe,
+           (held.failure ? describe(*held.failure) : held.reason).c_str());
   const SimResult gone = run(rig, curve(1.1 * onset_g, turn));
   QCOMPARE(gone.outcome, Outcome::failed);
   QVERIFY(gone.failure.has_value());
@@ -117,7 +109,8 @@ class TurningFrameTest : public QObject {
   void aSlideOutboardIsTurnedBackwards() {
     Rig rig = settled(test::carton(0.0, -0.3, kDeck, {0.3, 0.2, 0.2}));
     QVERIFY2(rig.error.empty(), rig.error.c_str());
-    const SimResult r = run(rig, curve(1.5 * 0.4 / 1.3, CurveTurn::left), true);
+    const SimResult r =
+        rig.sim->run(rig.rest, curve(1.5 * 0.4 / 1.3, CurveTurn::left), test::every_step());
     const Vec3 start = to_frame(rig.rest.pallet, rig.rest.items[0].pos);
     for (std::size_t k = 0; k < r.trace.size(); ++k) {
       const Vec3 now = to_frame(r.trace.pallet(k), r.trace.items(k)[0].pos);
