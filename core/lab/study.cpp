@@ -128,6 +128,7 @@ AnalyzerOptions reference_options() {
   o.scene.tolerance = 1e-12;
   o.search = fine_search(o.search);
   o.search.seed_with_closed_form = false;
+  o.sim.skip_creeping = false;  // every step of a creeping load is stepped
   o.search.parallel_probes = 1;
   o.search.derive_axes = false;  // the judge probes every axis
   return o;
@@ -204,6 +205,12 @@ std::vector<StudyConfig> study_configs() {
                      "shipped default with the full model's contacts as the reduced model's "
                      "(solref 0.02)",
                      soft_full));
+  AnalyzerOptions stiff_full;  // the full model's contacts as stiff as the reference's
+  stiff_full.full_model_solref_s = 0.005;
+  out.push_back(make("default-solref-0.005",
+                     "shipped default with the full model's contacts as stiff as the reference "
+                     "configuration's (solref 0.005)",
+                     stiff_full));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;
@@ -279,6 +286,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.full_model_timestep_s) j["full_model_timestep_s"] = *o.full_model_timestep_s;
   if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
+  if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
   return fingerprint_json(j);
 }
 

@@ -8,6 +8,7 @@
 #include "core/base/text.hpp"
 #include "core/physics/engine.hpp"
 #include "core/physics/quasi_static.hpp"
+#include "core/physics/step.hpp"
 
 namespace pb {
 
@@ -136,24 +137,32 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   calm_needed_ = std::max(1, static_cast<int>(std::lround(0.01 / dt_)));
   breakpoints_ = breakpoints;
   dwell_needed_ = std::max(1, static_cast<int>(std::lround(o_.skip_dwell_s / dt_)));
+  creep_needed_ = std::max(1, static_cast<int>(std::lround(kSteadyCreepWindowS / dt_)));
   if (n_steps_ <= 0) done_ = true;  // finish() gives the final check
 }
 
 void ProbeRun::before_step(mjData& d) {
   const SceneLayout& l = scene_->layout;
-  if (skip_n_ > 0) {  // the co-moving jump after_step planned: the belt's rigid motion
-    auto move = [&](int qpos, int dof) {
+  if (skip_n_ > 0) {  // the jump after_step planned: the belt's rigid motion (and the creep's)
+    const double span = skip_n_ * dt_;
+    auto move = [&](int qpos, int dof, std::size_t body) {
       d.qpos[qpos] += skip_dx_;
       d.qpos[qpos + 1] += skip_dy_;
       d.qvel[dof] += skip_dvx_;
       d.qvel[dof + 1] += skip_dvy_;
+      if (skip_creep_) {
+        const double* v = creep_v_.data() + 6 * body;
+        for (int c = 0; c < 3; ++c) d.qpos[qpos + c] += v[c] * span;
+        mju_quatIntegrate(d.qpos + qpos + 3, v + 3, span);
+      }
     };
     d.qpos[l.belt_x_qpos] += skip_dx_;
     d.qpos[l.belt_y_qpos] += skip_dy_;
     d.qvel[l.belt_x_dof] += skip_dvx_;
     d.qvel[l.belt_y_dof] += skip_dvy_;
-    move(l.pallet_qpos, l.pallet_dof);
-    for (std::size_t i = 0; i < l.item_qpos.size(); ++i) move(l.item_qpos[i], l.item_dofs[i]);
+    move(l.pallet_qpos, l.pallet_dof, 0);
+    for (std::size_t i = 0; i < l.item_qpos.size(); ++i)
+      move(l.item_qpos[i], l.item_dofs[i], i + 1);
     d.time += skip_n_ * dt_;
     skip_n_ = 0;
   }
@@ -183,7 +192,6 @@ void ProbeRun::before_step(mjData& d) {
 }
 
 int ProbeRun::plan_skip() const {
-  if (!o_.skip_comoving || dwell_steps_ < dwell_needed_) return 0;
   int last = n_steps_ - 1;  // the last step is always stepped
   if (phase_ < breakpoints_.size()) {
     // The step ending at or before the breakpoint is the phase's last: step it, and the one
@@ -211,9 +219,98 @@ int ProbeRun::plan_skip() const {
   return n;
 }
 
-void ProbeRun::shift(Pose& p) const {
+bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_vx,
+                                 double belt_vy) {
+  const SceneLayout& l = scene_->layout;
+  const std::size_t bodies = 1 + l.item_dofs.size();
+  creep_v_.resize(6 * bodies);
+  creep_v0_.resize(6 * bodies);
+  creep_sums_.resize(12 * bodies);
+  if (any_pair_sliding(&m, &d)) {
+    creep_steps_ = 0;
+    return false;
+  }
+  bool within = creep_steps_ > 0;
+  for (std::size_t b = 0; b < bodies; ++b) {
+    // The body's velocity relative to the belt: linear (world frame), angular (its own frame).
+    const int dof = b == 0 ? l.pallet_dof : l.item_dofs[b - 1];
+    double* v = creep_v_.data() + 6 * b;
+    v[0] = d.qvel[dof] - belt_vx;
+    v[1] = d.qvel[dof + 1] - belt_vy;
+    for (int c = 2; c < 6; ++c) v[c] = d.qvel[dof + c];
+    if (norm3(v) >= kSteadyCreepMps || norm3(v + 3) >= o_.comove_spin_radps) {
+      creep_steps_ = 0;
+      return false;
+    }
+    const double* v0 = creep_v0_.data() + 6 * b;
+    const double dv[6] = {v[0] - v0[0], v[1] - v0[1], v[2] - v0[2],
+                          v[3] - v0[3], v[4] - v0[4], v[5] - v0[5]};
+    within = within && norm3(dv) <= kSteadyCreepTolMps && norm3(dv + 3) <= kSteadyCreepTolRadps;
+  }
+  if (!within) {  // a window starts with this step
+    creep_v0_ = creep_v_;
+    std::fill(creep_sums_.begin(), creep_sums_.end(), 0.0);
+    creep_steps_ = 0;
+  }
+  // The window's velocities summed by half: the first half's sums, then the second's.
+  const int half = std::max(1, creep_needed_ / 2);
+  const std::size_t second = creep_steps_ < half ? 0 : 6;
+  for (std::size_t b = 0; b < bodies; ++b) {
+    for (std::size_t c = 0; c < 6; ++c) creep_sums_[12 * b + second + c] += creep_v_[6 * b + c];
+  }
+  return ++creep_steps_ >= 2 * half;
+}
+
+bool ProbeRun::creep_holds(double span) {
+  // Each half's mean velocity; the change between them, over the half's length, is the window's
+  // drift. The jump carries the second half's mean.
+  const int half = std::max(1, creep_needed_ / 2);
+  const double lag = half * dt_;
+  for (std::size_t b = 0; 12 * b < creep_sums_.size(); ++b) {
+    double drift[6];
+    for (std::size_t c = 0; c < 6; ++c) {
+      const double first = creep_sums_[12 * b + c] / half,
+                   last = creep_sums_[12 * b + 6 + c] / half;
+      creep_v_[6 * b + c] = last;
+      drift[c] = (last - first) / lag;
+    }
+    // What the drift would add over the jump, which carries the velocity unchanged.
+    if (0.5 * norm3(drift) * span * span > kCreepDriftM) return false;
+    if (0.5 * norm3(drift + 3) * span * span > kCreepDriftRad) return false;
+  }
+  return true;
+}
+
+double ProbeRun::creep_reach(double span) const {
+  // How far the creep can take each detector's reading over `span`: an item against another by
+  // the spread of the items' velocities, against the pallet by the largest difference from the
+  // pallet's, the pallet against the belt by its own, a tilt by the fastest spin.
+  const std::size_t bodies = creep_v_.size() / 6;
+  const double* pallet = creep_v_.data();
+  double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0}, item = 0.0, spin = norm3(pallet + 3);
+  for (std::size_t b = 1; b < bodies; ++b) {
+    const double* v = creep_v_.data() + 6 * b;
+    for (int c = 0; c < 2; ++c) {
+      lo[c] = b == 1 ? v[c] : std::min(lo[c], v[c]);
+      hi[c] = b == 1 ? v[c] : std::max(hi[c], v[c]);
+    }
+    item = std::max(item, std::hypot(v[0] - pallet[0], v[1] - pallet[1]));
+    spin = std::max(spin, norm3(v + 3));
+  }
+  const DetectorThresholds& t = o_.thresholds;
+  return span * std::max({std::hypot(hi[0] - lo[0], hi[1] - lo[1]) / t.load_shift_m,
+                          item / t.item_slide_m, std::hypot(pallet[0], pallet[1]) / t.pallet_slip_m,
+                          spin * 180.0 / std::numbers::pi / t.tip_deg});
+}
+
+void ProbeRun::shift(Pose& p, std::size_t body) const {
   p.pos[0] += skip_dx_;
   p.pos[1] += skip_dy_;
+  if (!skip_creep_) return;
+  const double span = skip_n_ * dt_;
+  const double* v = creep_v_.data() + 6 * body;
+  for (std::size_t c = 0; c < 3; ++c) p.pos[c] += v[c] * span;
+  mju_quatIntegrate(p.quat.data(), v + 3, span);
 }
 
 // The share of the barrier the load's energy must stay below: the barriers are first-order in the
@@ -292,6 +389,17 @@ void ProbeRun::finish(const mjModel& m, const mjData& d) {
   }
 }
 
+std::optional<FailureEvent> ProbeRun::detect(double t, const Trace::BeltState& belt,
+                                             const Pose& pallet, DetectorReadings& readings) {
+  auto event = detector_.update(t, belt, pallet, items_, &readings);
+  const DetectorThresholds& th = detector_.thresholds();
+  r_.peak_ratio = std::max(
+      {r_.peak_ratio, readings.tilt_deg / th.tip_deg, readings.item_slide_m / th.item_slide_m,
+       readings.load_shift_m / th.load_shift_m, readings.pallet_slip_m / th.pallet_slip_m});
+  if (event) r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
+  return event;
+}
+
 bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   const SceneLayout& l = scene_->layout;
   const int k = ++k_;
@@ -333,13 +441,7 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   if (k == 1) pe0_ = potential_energy(m, d);
   DetectorReadings readings;
   if (!r_.failure) {
-    auto event = detector_.update(t_next, belt, pallet, items_, &readings);
-    const DetectorThresholds& th = detector_.thresholds();
-    r_.peak_ratio = std::max(
-        {r_.peak_ratio, readings.tilt_deg / th.tip_deg, readings.item_slide_m / th.item_slide_m,
-         readings.load_shift_m / th.load_shift_m, readings.pallet_slip_m / th.pallet_slip_m});
-    if (event) {
-      r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
+    if (auto event = detect(t_next, belt, pallet, readings)) {
       r_.failure = std::move(event);
       r_.outcome = Outcome::failed;
       if (o_.fail_fast) {
@@ -351,7 +453,7 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   // Co-moving: within the current phase for skipping, after the last breakpoint for the early stop.
   std::size_t phase = 0;
   while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
-  if (phase != phase_) dwell_steps_ = 0;
+  if (phase != phase_) dwell_steps_ = creep_steps_ = 0;
   phase_ = phase;
   const bool want_stop = stops_early_ && !r_.failure && t_next >= last_breakpoint_;
   const bool want_skip = o_.skip_comoving && !r_.failure && k < n_steps_;
@@ -371,6 +473,9 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
              spin_accel < o_.comove_spin_radps / o_.skip_dwell_s;
   }
   dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
+  const bool comoved = dwell_steps_ >= dwell_needed_;
+  const bool creeping =
+      want_skip && o_.skip_creeping && !comoved && creeping_steadily(m, d, belt.vx, belt.vy);
   if (want_stop) {
     comove_steps_ = comoving ? comove_steps_ + 1 : 0;
     calm_steps_ =
@@ -381,8 +486,18 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       return false;
     }
   }
-  if (want_skip) {
-    if (const int n = plan_skip(); n > 0) {
+  if (want_skip && (comoved || creeping)) {
+    int n = plan_skip();
+    // A creeping load jumps only where its creep cannot take it near a threshold meanwhile.
+    skip_creep_ = !comoved;
+    if (skip_creep_ && n > 0) {
+      const double span = n * dt_;
+      if (!creep_holds(span) || r_.peak_ratio + creep_reach(span) >= kCreepJumpMaxRatio) {
+        n = 0;
+        creep_steps_ = 0;  // a new window, from the next step
+      }
+    }
+    if (n > 0) {
       const double t0 = k * dt_, t1 = (k + n) * dt_;
       const double v0x = profile_.velocity_at(t0), v1x = profile_.velocity_at(t1);
       const double v0y = profile_.lateral_velocity_at(t0), v1y = profile_.lateral_velocity_at(t1);
@@ -401,12 +516,14 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
       // under the belt's rigid motion: the detector is run for consistency, not for news).
       Pose pallet1 = pallet;
-      shift(pallet1);
-      for (auto& item : items_) shift(item);
+      shift(pallet1, 0);
+      for (std::size_t i = 0; i < items_.size(); ++i) shift(items_[i], i + 1);
+      creep_steps_ = 0;
       const Trace::BeltState belt1{belt.x + skip_dx_, belt.y + skip_dy_, belt.vx + skip_dvx_,
                                    belt.vy + skip_dvy_};
       if (o_.record_trace) r_.trace.push(t1, belt1, pallet1, items_);
-      if (auto event = detector_.update(t1, belt1, pallet1, items_)) {
+      DetectorReadings at_end;
+      if (auto event = detect(t1, belt1, pallet1, at_end)) {
         r_.failure = std::move(event);
         r_.outcome = Outcome::failed;
         if (o_.fail_fast) {

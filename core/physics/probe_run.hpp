@@ -49,6 +49,30 @@ SimState start_state(const SceneLayout& layout, const RestState& rest, double in
 void load_rest_state(const SceneLayout& layout, const RestState& rest, double initial_speed,
                      mjData& data);
 
+/// A creeping load (SimOptions::skip_creeping) is steady once, for this long, every body's velocity
+/// relative to the belt stayed within these tolerances of where it was at the window's start (and
+/// its drift is small: kCreepDriftM).
+/// Measured at 1 ms on a curve's arc: a load that creeps under it changes its bodies' velocities
+/// by 1e-6 to 3e-4 m/s and 1e-6 to 1e-3 rad/s in 50 ms (tall-unwrapped-tower at 0.14 g, a 72-carton
+/// brick at 0.19 g); one that sways or rattles near its limit by 2e-3 to 2e-2 m/s and 4e-3 to
+/// 0.1 rad/s (the tower at 0.219 g, asymmetric-load at 0.286 g). The window is long against a
+/// tower's sway, so a sway cannot pass it between two of its turning points.
+inline constexpr double kSteadyCreepWindowS = 0.1;
+inline constexpr double kSteadyCreepTolMps = 5e-4;
+inline constexpr double kSteadyCreepTolRadps = 3e-3;
+/// The fastest a steadily creeping body may move relative to the belt (MuJoCo's soft contacts
+/// creep at 1-3 mm/s under a sustained load inside the cone); faster is a slide.
+inline constexpr double kSteadyCreepMps = 0.005;
+/// A creeping load jumps only while its peak ratio (SimResult::peak_ratio) plus the most its creep
+/// can add to any detector's reading over the jump stays below this: a load whose creep could carry
+/// it near a threshold is stepped, so a jump never decides a verdict.
+inline constexpr double kCreepJumpMaxRatio = 0.5;
+/// A jump carries each body's creep at its window's last mean velocity. The window's drift (the
+/// change between its halves' means) must not move a body by more than this over the jump (a load
+/// still settling into its creep after a demand's onset is stepped on).
+inline constexpr double kCreepDriftM = 5e-4;
+inline constexpr double kCreepDriftRad = 1e-3;
+
 /// One probe run. Construct, load the start state (load_rest_state with initial_speed()), then
 /// per step: before_step(data), pb::step (step.hpp), after_step(model, data) until it returns
 /// false. An engine error raised by the step goes to engine_error(). Not thread-safe; one per
@@ -88,10 +112,25 @@ class ProbeRun {
   bool below_barrier(const mjModel& model, const mjData& data, const Trace::BeltState& belt,
                      const DetectorReadings& readings);
   double potential_energy(const mjModel& model, const mjData& data) const;
-  // Plans a co-moving jump from step k_ (see SimOptions::skip_comoving): the steps to skip, or 0.
+  // Plans a jump from step k_ (see SimOptions::skip_comoving) once the load has been steady long
+  // enough: the steps to skip, or 0.
   int plan_skip() const;
-  // Shifts `p` by the pending jump's belt travel.
-  void shift(Pose& p) const;
+  // Whether the load creeps steadily (SimOptions::skip_creeping): updates the creep window with
+  // this step's velocities and says whether it has lasted kSteadyCreepWindowS.
+  bool creeping_steadily(const mjModel& m, const mjData& d, double belt_vx, double belt_vy);
+  // After a window (creeping_steadily): sets creep_v_ to the window's last half's mean velocities
+  // and says whether the window's drift (the change from its first half's means) would move a
+  // body by less than kCreepDriftM (and turn it less than kCreepDriftRad) over `span`.
+  bool creep_holds(double span);
+  // The most the creep (creep_v_) can add to any detector's reading over its threshold in `span`.
+  double creep_reach(double span) const;
+  // Moves `p`, the pose of body `body` (0 the pallet, then the items), by the pending jump: the
+  // belt's travel, and the creep's when the jump carries it.
+  void shift(Pose& p, std::size_t body) const;
+  // Updates the detector with the item poses in items_ at time t, and the peak ratio with its
+  // readings; the failure it found, if any.
+  std::optional<FailureEvent> detect(double t, const Trace::BeltState& belt, const Pose& pallet,
+                                     DetectorReadings& readings);
 
   const Scene* scene_;
   ConveyorProfile profile_;
@@ -119,6 +158,14 @@ class ProbeRun {
   std::size_t phase_ = 0;
   int dwell_needed_ = 1, dwell_steps_ = 0, skip_n_ = 0;
   double skip_dx_ = 0.0, skip_dy_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
+  // The creep window: each body's velocity relative to the belt at its start and at the last step
+  // (6 a body, the pallet first, then the items: linear in the world frame, angular in the body's,
+  // as in qvel), and the steps it has lasted; a pending jump that carries the creep (skip_creep_)
+  // moves each body on at its last velocity.
+  std::vector<double> creep_v0_, creep_v_;
+  std::vector<double> creep_sums_;  ///< 12 a body: the window's first half's sums, its second's
+  int creep_needed_ = 1, creep_steps_ = 0;
+  bool skip_creep_ = false;
   bool done_ = false;
   std::vector<Pose> items_;
   std::optional<TurningFrame> turning_;  ///< a curve's: the belt's frame turns with it

@@ -94,6 +94,16 @@ struct SimOptions {
   /// detectors' measures are invariant under that motion. After the last breakpoint the early
   /// stop decides instead (when on).
   bool skip_comoving = true;
+  /// With skip_comoving: also jump where the load creeps steadily rather than co-moves. MuJoCo's
+  /// soft contacts creep at 1-3 mm/s under a sustained demand inside the friction cone (a curve's
+  /// arc, a start-up's ramp), which co-moving (comove_speed_mps) never allows. Once, for
+  /// kSteadyCreepWindowS (probe_run.hpp), no pair has broken loose (step.hpp), every body has
+  /// moved within kSteadyCreepMps of the belt and spun below comove_spin_radps, and each body's
+  /// velocity relative to the belt stayed within kSteadyCreepTolMps (linear) and
+  /// kSteadyCreepTolRadps (angular) of where it was at the window's start, the jump carries each
+  /// body on at that relative velocity as well as with the belt (the creep's travel is kept, so
+  /// the detectors see it at the jump's end).
+  bool skip_creeping = true;
   /// Warm-start each step's constraint solve from the line through the last two steps'
   /// accelerations instead of the last one's. The solve converges to the same answer up to its
   /// tolerance, so this is the same probe along another numerical path: where the load's fate

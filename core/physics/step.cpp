@@ -79,6 +79,17 @@ std::optional<PairState> pair_state(const mjModel* m, mjData* d) {
   return PairState{d->userdata, d->userdata + n, d->userdata + 2 * n, d->userdata + 3 * n};
 }
 
+}  // namespace
+
+bool any_pair_sliding(const mjModel* m, const mjData* d) {
+  const int n = m->npair;
+  if (n == 0 || m->nuserdata < kFrictionStateSlots * n) return false;
+  // The sliding flags are the first of the pairs' slots (PairState).
+  return std::any_of(d->userdata, d->userdata + n, [](mjtNum v) { return v != 0.0; });
+}
+
+namespace {
+
 // After the constraint solve: how much of its friction cone each pair used, over all its contacts
 // together (one lightly loaded corner on its cone is not the pair slipping).
 void record_cone_use(const mjModel* m, mjData* d) {

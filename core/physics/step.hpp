@@ -60,6 +60,10 @@ void set_demand_field(const mjModel* m, mjData* d, const DemandField& field);
 /// side contact between neighbours is pushed along its normal and keeps MuJoCo's frame.
 inline constexpr double kLevelContactNz = 0.7;
 
+/// True while a contact pair of the scene has broken loose (it slides at its kinetic coefficient
+/// until it sticks again); false for a model without the pairs' slots.
+bool any_pair_sliding(const mjModel* m, const mjData* d);
+
 /// mj_step for the Euler integrator (the only one the scenes use; any other is stepped by
 /// mj_step itself), with each pair contact's sliding coefficient set between collision detection
 /// and constraint construction: the pair's static coefficient (friction[0]) while it holds, its
