@@ -14,12 +14,14 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   std::optional<double> safe, fail;
   FailureMode fail_mode = FailureMode::no_failure;
   double last_ratio = 0.0;                      // the peak ratio of the probe recorded last
+  double last_failed_at = 1.0;                  // ProbeVerdict::failed_at of the last failure
   std::vector<std::pair<double, bool>> probed;  // every verdict: value, failed
   auto record = [&](double x, const ProbeVerdict& v) {
     ++out.probes;
     last_ratio = v.peak_ratio;
     probed.emplace_back(x, v.failed);
     if (v.failed) {
+      last_failed_at = v.failed_at;
       if (!fail || x < *fail) {
         fail = x;
         fail_mode = v.mode;
@@ -76,9 +78,24 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     return true;
   };
   // Down from the lowest failure in the walk's steps until a probe holds, the floor last; false
-  // when a probe was unstable.
+  // when a probe was unstable. A failure early in its demand jumps the walk to its doubling steps
+  // (walk_step(3) is the first double one); the next late failure after such a jump starts the
+  // single steps again, as the limit is likely near. Every step is the precision times a power of
+  // two, as the bisection grid needs.
   auto walk_down = [&]() -> bool {
-    for (int n = 0; !safe && *fail - walk_step(n) > min_; ++n) {
+    bool hastened = false;
+    auto next = [&](int n) {
+      if (last_failed_at < kEarlyFailure) {
+        hastened = true;
+        return std::max(n + 1, 3);
+      }
+      if (hastened) {
+        hastened = false;
+        return 0;
+      }
+      return n + 1;
+    };
+    for (int n = next(-1); !safe && *fail - walk_step(n) > min_; n = next(n)) {
       if (!test(*fail - walk_step(n))) return false;
     }
     return safe || *fail <= min_ || test(min_).has_value();

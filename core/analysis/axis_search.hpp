@@ -17,7 +17,15 @@ struct ProbeVerdict {
   bool failed = false;
   FailureMode mode = FailureMode::no_failure;
   double peak_ratio = 0.0;  ///< SimResult::peak_ratio
+  /// A failure: how far into the probe's demand it came (0 at the demand's onset, 1 at its end;
+  /// more once the load went on sliding after it). 1 where unknown.
+  double failed_at = 1.0;
 };
+
+/// A probe that failed before this share of its demand had passed is likely far above its limit
+/// (a load just above its limit fails near the demand's end, or after it, as its slide builds):
+/// the walk down doubles its steps from it instead of stepping singly (AxisSearch).
+constexpr double kEarlyFailure = 0.5;
 
 // A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
 // within a step or two of the limit: the walk up keeps its step there instead of doubling.
@@ -27,9 +35,11 @@ constexpr double kNearFailure = 0.5;
 constexpr int kBandChecks = 3;
 
 // One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect while
-// the bracket, as computed in doubles, is wider than the precision (finest()). Down from a failing
+// the bracket is wider than half the precision (finest()). Down from a failing
 // seed the steps are three of the precision, then doubling (a seed just above the weakest onset
-// lands within about two steps of the limit); up from a safe one, one step at a time while the last
+// lands within about two steps of the limit), except that a failure early in its demand
+// (ProbeVerdict::failed_at < kEarlyFailure) starts the doubling at once and the next late one
+// returns to single steps; up from a safe one, one step at a time while the last
 // probe came near failing (kNearFailure), else doubling (a pallet that must slip 0.3 m can be ten
 // steps above its onset). Every walk's steps are the precision times powers of two, so the
 // bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
@@ -66,13 +76,15 @@ class AxisSearch {
  private:
   // The walk's n-th step (n from 0): the precision three times, then doubling.
   double walk_step(int n) const { return precision_ * double(1 << std::clamp(n - 2, 0, 30)); }
-  // The widest bracket the seeded search leaves: the precision, compared as computed. A one-step
-  // bracket reached by adding steps to the seed usually computes a hair wider and is halved once
-  // more, so most limits end within half a step of their threshold, some within one. Both explicit
-  // rules were measured on the unwrapped corpus (core/README.md, "The walk") and are worse: always
-  // half a step put a chaotic stop limit 1.2 steps above the reference, always one step put 9 more
-  // limits more than a step below it.
-  double finest() const { return precision_; }
+  // The widest bracket the seeded search leaves: half the precision (with a hair of slack for
+  // brackets built from sums of steps), so a limit lies within half a step of its threshold on
+  // the search's grid. Until session 16 it was the precision as computed: a one-step bracket
+  // reached by adding steps to the seed usually computed a hair wider and was halved once more,
+  // one reached by bisection did not, so which limits ended within half a step and which within
+  // one hung on round-off; a walk that takes other steps (hasten_walk) moved them (u2021's curve
+  // 0.5 -> 1.03 steps below the reference). Explicit, on the unwrapped corpus: the same 88 of 96
+  // limits within one step, 3 more simulations of 359 (core/README.md, "The walk").
+  double finest() const { return 0.5 * precision_ * (1.0 + 1e-6); }
 
   // Appends the points bisection of [a, b] until brackets are at most `width` wide can probe after
   // a, ascending, b last: the same expressions as the bisection, so the same doubles and, when

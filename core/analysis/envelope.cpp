@@ -12,6 +12,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -243,6 +244,15 @@ struct AxisTask {
   /// A safe seed that came near failing is checked below (AxisSearch): a load whose items can
   /// move, seeded from its onsets.
   bool vouch = false;
+  /// Verdicts say how far into its demand a probe failed (ProbeVerdict::failed_at), which speeds
+  /// the walk down from a seed far above the limit (SearchConfig::hasten_walk).
+  bool hasten = false;
+  /// Where the axis's probes are one experiment cut at different times: the lowest value whose
+  /// probe runs as every higher one does up to time t (empty: none). The e-stop speed axis: a stop
+  /// at the line's deceleration d from v lasts v / d, so every stop from at least d (t - its
+  /// start) runs as any faster one up to t. A probe that fails at t within its demand then says
+  /// every value from there up fails too: the same run, up to round-off (search_axis).
+  std::function<double(double)> same_until;
 };
 
 struct AxisOutcome {
@@ -256,9 +266,18 @@ struct AxisOutcome {
 };
 
 // What a search needs of a run: failed or not, the mode, how near it came.
-ProbeVerdict verdict_of(const SimResult& r) {
-  return ProbeVerdict{r.outcome == Outcome::failed,
-                      r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
+// `profile`, where given: the probe's, whose demand (from its first breakpoint, or the start, to
+// its last) a failure is placed in (ProbeVerdict::failed_at).
+ProbeVerdict verdict_of(const SimResult& r, const ConveyorProfile* profile = nullptr) {
+  ProbeVerdict v{r.outcome == Outcome::failed,
+                 r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
+  if (r.failure && profile != nullptr) {
+    const std::vector<double> b = profile->breakpoints();
+    const double begin = b.size() >= 2 ? b.front() : 0.0;
+    const double end = b.empty() ? profile->duration_s : b.back();
+    if (end > begin) v.failed_at = std::max(0.0, (r.failure->time_s - begin) / (end - begin));
+  }
+  return v;
 }
 
 // `config`: the pallet the probe simulated (a symmetry-reduced one for a reduced model), whose
@@ -434,6 +453,22 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   if (holding.cores) ahead = std::make_unique<Lookahead>(*cores, simulator.scene(), rest, o);
   // Results that exist (ran ahead and finished, or given), for the search's dry runs.
   std::map<double, ProbeVerdict> known = t.known;
+  // The run that failed earliest into the axis (AxisTask::same_until), and the lowest value from
+  // which every probe is that run up to its failure: each fails as it did, unsimulated.
+  std::optional<SimResult> implying;
+  double implied_from = std::numeric_limits<double>::infinity();
+  auto note_failure = [&](double x, const SimResult& r) {
+    if (!t.same_until || !r.failure) return;
+    const double from = t.same_until(r.failure->time_s);
+    if (from > x || from >= implied_from) return;  // failed after its demand: no same run above
+    implied_from = from;
+    implying = r;
+  };
+  auto implied = [&](double y) -> std::optional<ProbeVerdict> {
+    if (!implying || y < implied_from) return std::nullopt;
+    const ConveyorProfile profile = t.profile(y);
+    return verdict_of(*implying, t.hasten ? &profile : nullptr);
+  };
   // The probe the search takes after x if x ends `failed`: the search run again without
   // simulating, on what is known, up to the first probe it does not know.
   auto next_after = [&](double x, bool failed) -> std::optional<double> {
@@ -441,6 +476,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     auto oracle = [&](double y) -> std::optional<ProbeVerdict> {
       if (y == x) return ProbeVerdict{failed, FailureMode::no_failure, 1.0};
       if (auto it = known.find(y); it != known.end()) return it->second;
+      if (auto v = implied(y)) return v;
       miss = y;
       return std::nullopt;
     };
@@ -463,13 +499,16 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     }
     const SimResult& r = *ran;
     if (o.progress != nullptr) o.progress->finished();
-    if (r.outcome != Outcome::unstable) known[x] = verdict_of(r);
+    const ConveyorProfile profile = t.profile(x);
+    const ProbeVerdict verdict = verdict_of(r, t.hasten ? &profile : nullptr);
+    if (r.outcome != Outcome::unstable) known[x] = verdict;
+    note_failure(x, r);
     out.probes.push_back(make_probe(t.axis, x, r, simulator.scene().config));
     if (r.outcome == Outcome::unstable) {
       unstable_at(x, r);
       return std::nullopt;
     }
-    return verdict_of(r);
+    return verdict;
   };
   auto batch = [&](const std::vector<double>& xs) -> std::optional<std::vector<ProbeVerdict>> {
     std::vector<ConveyorProfile> profiles;
@@ -486,7 +525,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       const SimResult& r = (*runs.value)[i];
       out.probes.push_back(make_probe(t.axis, xs[i], r, simulator.scene().config));
       if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
-      verdicts.push_back(verdict_of(r));
+      verdicts.push_back(verdict_of(r, t.hasten ? &profiles[i] : nullptr));
+      note_failure(xs[i], r);
     }
     if (out.unstable) return std::nullopt;
     return verdicts;
@@ -497,6 +537,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   auto remembered = [&](double x) -> std::optional<ProbeVerdict> {
     if (auto it = failing.find(x); it != failing.end()) return it->second;
     if (auto it = known.find(x); it != known.end()) return it->second;
+    if (auto v = implied(x)) return v;
     return probe(x);
   };
   out.limit =
@@ -521,7 +562,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       break;
     }
     if (r.outcome != Outcome::failed) break;
-    failing[x] = verdict_of(r);
+    const ConveyorProfile profile = t.profile(x);
+    failing[x] = verdict_of(r, t.hasten ? &profile : nullptr);
     out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch).run(x);
   }
   if (out.limit) {
@@ -616,7 +658,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.accel.value,
        [&](double a) { return accel_probe_profile(a, s); },
        {},
-       !one_body},
+       !one_body,
+       s.hasten_walk},
       {Axis::decel,
        s.decel_min_mps2,
        s.decel_max_mps2,
@@ -625,7 +668,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.decel.value,
        [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); },
        {},
-       !one_body},
+       !one_body,
+       s.hasten_walk},
       {Axis::lateral,
        s.lateral_min_g,
        s.lateral_max_g,
@@ -634,7 +678,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.lateral.value,
        [&](double g) { return lateral_probe_profile(g, line, s); },
        {},
-       !one_body},
+       !one_body,
+       s.hasten_walk},
       {Axis::speed,
        s.speed_min_mps,
        s.speed_max_mps,
@@ -643,7 +688,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        speed_seed,
        [&](double v) { return stop_probe_profile(v, line, s); },
        {},
-       !one_body},
+       false,  // one experiment cut at different times (same_until): failure is monotone in v
+       s.hasten_walk,
+       [&](double t) { return line.estop_decel_mps2 * std::max(0.0, t - kSettleLead); }},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up

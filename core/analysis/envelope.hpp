@@ -76,6 +76,11 @@ struct SearchConfig {
   /// there hangs on round-off, the value counts as failing and the search goes on below it. Off
   /// by default, for its cost (measured in core/README.md, "Limits that hang on round-off").
   bool confirm_limits = false;
+  /// A walk down from a failing probe doubles its steps at once where that probe failed early in
+  /// its demand (before kEarlyFailure of it had passed: the limit is likely far below), and steps
+  /// singly again after the next late failure (AxisSearch). Off: the walk's fixed steps (three
+  /// single ones, then doubling). Measured in core/README.md, "The walk".
+  bool hasten_walk = true;
 
   bool operator==(const SearchConfig&) const = default;
 };

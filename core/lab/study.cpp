@@ -211,6 +211,11 @@ std::vector<StudyConfig> study_configs() {
                      "shipped default with the full model's contacts as stiff as the reference "
                      "configuration's (solref 0.005)",
                      stiff_full));
+  AnalyzerOptions fixed_walk;  // the shipped default, its walk down in fixed steps
+  fixed_walk.search.hasten_walk = false;
+  out.push_back(make("default-fixed-walk",
+                     "the default with the walk down in fixed steps (three single, then doubling)",
+                     fixed_walk));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;
@@ -287,6 +292,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
+  if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
   return fingerprint_json(j);
 }
 

@@ -139,6 +139,41 @@ class AxisSearchTest : public QObject {
   }
 
   // A seed at the bottom of the range has nothing below it to check.
+  // A failure early in its demand says the limit is far below: the walk down doubles its steps
+  // from it and steps singly after the next late failure. A made-up slide that fails at the
+  // demand's end at 0.2 and earlier the higher the demand (failed_at = (0.2 / x)^4): from 0.35 the
+  // hastened walk finds the same limit in fewer probes than the fixed one, every probe on the
+  // fixed walk's grid (the seed minus whole steps). A load whose failures all come late walks as
+  // before, probe for probe.
+  void anEarlyFailureHastensTheWalkDown() {
+    auto search = [](double failed_at_top, bool hasten, std::vector<double>& probed) {
+      auto fn = [&, failed_at_top, hasten](double x) -> std::optional<ProbeVerdict> {
+        probed.push_back(x);
+        if (x < 0.2) return ProbeVerdict{false, FailureMode::no_failure, 0.1};
+        const double at = failed_at_top >= 1.0 ? 1.0 : std::pow(0.2 / x, 4.0);
+        return ProbeVerdict{true, FailureMode::load_shift, 1.0, hasten ? at : 1.0};
+      };
+      return AxisSearch(kLo, kHi, kStep, fn, true, true).run(0.35);
+    };
+    std::vector<double> fixed, hastened, late_fixed, late_hastened;
+    const auto a = search(0.0, false, fixed);
+    const auto b = search(0.0, true, hastened);
+    QVERIFY(a && b);
+    QCOMPARE(b->limit, a->limit);
+    QVERIFY(a->limit < 0.2 && a->limit >= 0.2 - kStep - 1e-12);
+    qInfo("fixed walk %zu probes, hastened %zu", fixed.size(), hastened.size());
+    QVERIFY2(hastened.size() + 2 <= fixed.size(),
+             qPrintable(QString("%1 probes against %2").arg(hastened.size()).arg(fixed.size())));
+    for (double x : hastened) {
+      const double steps = (0.35 - x) / (0.5 * kStep);  // bisection halves a single step
+      QVERIFY2(std::abs(steps - std::round(steps)) < 1e-6, std::to_string(x).c_str());
+    }
+    const auto c = search(1.0, false, late_fixed);
+    const auto d = search(1.0, true, late_hastened);
+    QVERIFY(c && d);
+    QCOMPARE(late_hastened, late_fixed);
+  }
+
   void aSeedAtTheFloorIsNotCheckedBelow() {
     MadeUp load{[](double x) { return x >= 0.06; }, 0.0, 0.06, {}};
     auto limit = AxisSearch(kLo, kHi, kStep, load.fn(), true, true).run(kLo);
