@@ -230,7 +230,9 @@ bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_
     creep_steps_ = 0;
     return false;
   }
-  bool within = creep_steps_ > 0;
+  // A window that ended without a jump (none planned from there) is not extended: a new one starts.
+  const int half = std::max(1, creep_needed_ / 2);
+  bool within = creep_steps_ > 0 && creep_steps_ < 2 * half;
   for (std::size_t b = 0; b < bodies; ++b) {
     // The body's velocity relative to the belt: linear (world frame), angular (its own frame).
     const int dof = b == 0 ? l.pallet_dof : l.item_dofs[b - 1];
@@ -253,12 +255,11 @@ bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_
     creep_steps_ = 0;
   }
   // The window's velocities summed by half: the first half's sums, then the second's.
-  const int half = std::max(1, creep_needed_ / 2);
   const std::size_t second = creep_steps_ < half ? 0 : 6;
   for (std::size_t b = 0; b < bodies; ++b) {
     for (std::size_t c = 0; c < 6; ++c) creep_sums_[12 * b + second + c] += creep_v_[6 * b + c];
   }
-  return ++creep_steps_ >= 2 * half;
+  return ++creep_steps_ == 2 * half;
 }
 
 bool ProbeRun::creep_holds(double span) {
