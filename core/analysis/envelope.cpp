@@ -649,6 +649,14 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     if (!one_body) return std::min(p.value + precision, r.value);
     return p.value >= hi ? hi : p.value - 0.5 * precision;
   };
+  // The e-stop speed axis is one experiment cut at different times (AxisTask::same_until); taken
+  // where axes may be answered from the physics (derive_axes), while the judge simulates them.
+  std::function<double(double)> estop_same_until;
+  if (s.derive_axes) {
+    estop_same_until = [&](double t) {
+      return line.estop_decel_mps2 * std::max(0.0, t - kSettleLead);
+    };
+  }
   const std::vector<AxisTask> tasks{
       {Axis::accel,
        s.accel_min_mps2,
@@ -693,7 +701,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        {},
        false,  // one experiment cut at different times (same_until): failure is monotone in v
        s.hasten_walk,
-       [&](double t) { return line.estop_decel_mps2 * std::max(0.0, t - kSettleLead); }},
+       estop_same_until},
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up

@@ -58,7 +58,8 @@ struct SearchConfig {
   /// when four would not fit (core/README.md, "Buffers from what the scene uses").
   double axis_memory_bytes = 640.0 * 1024 * 1024;
   /// Axes answered from others where the physics says they must agree (search_envelope): a
-  /// mirror-symmetric load's stop from its start-up, and the e-stop speed from the stop search.
+  /// mirror-symmetric load's stop from its start-up, the e-stop speed from the stop search, and
+  /// faster e-stops from one that failed within its deceleration (AxisTask::same_until).
   /// false searches every axis on its own (the reference configuration, the judge, does).
   bool derive_axes = true;
   /// With the axes on threads of their own (axis_threads != 1) and k = 1: a search that would
