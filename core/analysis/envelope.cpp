@@ -455,6 +455,12 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   std::map<double, ProbeVerdict> known = t.known;
   // The run that failed earliest into the axis (AxisTask::same_until), and the lowest value from
   // which every probe is that run up to its failure: each fails as it did, unsimulated.
+  // A run's verdict at x, its failure placed in x's demand where the walk hastens.
+  auto verdict_at = [&](double x, const SimResult& r) {
+    if (!t.hasten) return verdict_of(r);
+    const ConveyorProfile profile = t.profile(x);
+    return verdict_of(r, &profile);
+  };
   std::optional<SimResult> implying;
   double implied_from = std::numeric_limits<double>::infinity();
   auto note_failure = [&](double x, const SimResult& r) {
@@ -466,8 +472,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   };
   auto implied = [&](double y) -> std::optional<ProbeVerdict> {
     if (!implying || y < implied_from) return std::nullopt;
-    const ConveyorProfile profile = t.profile(y);
-    return verdict_of(*implying, t.hasten ? &profile : nullptr);
+    return verdict_at(y, *implying);
   };
   // The probe the search takes after x if x ends `failed`: the search run again without
   // simulating, on what is known, up to the first probe it does not know.
@@ -499,8 +504,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     }
     const SimResult& r = *ran;
     if (o.progress != nullptr) o.progress->finished();
-    const ConveyorProfile profile = t.profile(x);
-    const ProbeVerdict verdict = verdict_of(r, t.hasten ? &profile : nullptr);
+    const ProbeVerdict verdict = verdict_at(x, r);
     if (r.outcome != Outcome::unstable) known[x] = verdict;
     note_failure(x, r);
     out.probes.push_back(make_probe(t.axis, x, r, simulator.scene().config));
@@ -525,7 +529,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       const SimResult& r = (*runs.value)[i];
       out.probes.push_back(make_probe(t.axis, xs[i], r, simulator.scene().config));
       if (r.outcome == Outcome::unstable) unstable_at(xs[i], r);
-      verdicts.push_back(verdict_of(r, t.hasten ? &profiles[i] : nullptr));
+      verdicts.push_back(verdict_at(xs[i], r));
       note_failure(xs[i], r);
     }
     if (out.unstable) return std::nullopt;
@@ -562,8 +566,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       break;
     }
     if (r.outcome != Outcome::failed) break;
-    const ConveyorProfile profile = t.profile(x);
-    failing[x] = verdict_of(r, t.hasten ? &profile : nullptr);
+    failing[x] = verdict_at(x, r);
     out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch).run(x);
   }
   if (out.limit) {

@@ -475,8 +475,10 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   }
   dwell_steps_ = steady ? dwell_steps_ + 1 : 0;
   const bool comoved = dwell_steps_ >= dwell_needed_;
-  const bool creeping =
-      want_skip && o_.skip_creeping && !comoved && creeping_steadily(m, d, belt.vx, belt.vy);
+  // After the last breakpoint of a run that stops early no jump is planned: no window is kept.
+  const bool can_jump = phase_ < breakpoints_.size() || !stops_early_;
+  const bool creeping = want_skip && o_.skip_creeping && !comoved && can_jump &&
+                        creeping_steadily(m, d, belt.vx, belt.vy);
   if (want_stop) {
     comove_steps_ = comoving ? comove_steps_ + 1 : 0;
     calm_steps_ =
