@@ -28,8 +28,9 @@ namespace fs = std::filesystem;
 
 // Bumped whenever the physics the reference runs changes, so that no cached envelope of the old
 // physics is judged against: 2 = Coulomb friction (core/physics/step.hpp, 2026-11-26); 3 = curves
-// turn the load (core/physics/turning_frame.hpp, session 15).
-constexpr const char* kReferenceCacheVersion = "reference-cache-3";
+// turn the load (core/physics/turning_frame.hpp, session 15); 4 = a sliding pair slides by
+// explicit Coulomb friction, not in MuJoCo's cone (core/physics/step.hpp, session 17).
+constexpr const char* kReferenceCacheVersion = "reference-cache-4";
 
 std::string cell(const std::string& text, int width, bool left) {
   std::ostringstream out;

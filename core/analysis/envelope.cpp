@@ -5,6 +5,7 @@
 #include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "core/physics/probe_batch.hpp"
+#include "core/physics/step.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -189,18 +190,41 @@ std::vector<QuasiStaticLimit> in_a_curve(std::vector<QuasiStaticLimit> across, d
   return across;
 }
 
+// The onset of the pallet's slip on its belt among `mechanisms` (m/s^2), 0 if none.
+double belt_onset_mps2(const std::vector<QuasiStaticLimit>& mechanisms) {
+  for (const QuasiStaticLimit& m : mechanisms) {
+    if (m.mechanism == Mechanism::pallet_slip) return m.accel_mps2;
+  }
+  return 0.0;
+}
+
+// The mechanisms that can act: friction cannot push the pallet harder than its belt holds it, so
+// a mechanism of the load (an item's slip, a sub-stack's tip) whose onset is above the pallet's
+// slip onset is carried by the slipping pallet instead, quasi-statically (search_envelope checks
+// the load below the pallet's onset, where it is not).
+std::vector<QuasiStaticLimit> carried(std::vector<QuasiStaticLimit> mechanisms) {
+  const double belt = belt_onset_mps2(mechanisms);
+  if (belt <= 0.0) return mechanisms;
+  std::erase_if(mechanisms, [&](const QuasiStaticLimit& m) {
+    return m.mechanism != Mechanism::pallet_slip && m.mechanism != Mechanism::load_tip &&
+           m.accel_mps2 >= belt;
+  });
+  return mechanisms;
+}
+
 // Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe).
 AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDescription& line,
                                   const SearchConfig& s, const DetectorThresholds& thresholds) {
   AxisPredictions p;
   p.accel = predict_axis(
-      bounds.along, 1.0, s.accel_min_mps2, s.accel_max_mps2,
+      carried(bounds.along), 1.0, s.accel_min_mps2, s.accel_max_mps2,
       [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
   p.decel = predict_axis(
-      bounds.along, 1.0, s.decel_min_mps2, s.decel_max_mps2,
+      carried(bounds.along), 1.0, s.decel_min_mps2, s.decel_max_mps2,
       [&](double d) { return s.speed_max_mps / d; }, thresholds);
   p.lateral = predict_axis(
-      in_a_curve(bounds.across, line.curve_radius_m), kGravity, s.lateral_min_g, s.lateral_max_g,
+      carried(in_a_curve(bounds.across, line.curve_radius_m)), kGravity, s.lateral_min_g,
+      s.lateral_max_g,
       [&](double g) {
         return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
       },
@@ -215,8 +239,9 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
   if (bounds.one_body()) return rigid_predictions(bounds, line, s, thresholds);
   // Items can slide and rock: the onsets (see the header).
   AxisPredictions p;
-  QuasiStaticBounds curve{{}, in_a_curve(bounds.across, line.curve_radius_m)};
-  const QuasiStaticLimit along = bounds.weakest_along(), across = curve.weakest_across();
+  const QuasiStaticBounds able{carried(bounds.along),
+                               carried(in_a_curve(bounds.across, line.curve_radius_m))};
+  const QuasiStaticLimit along = able.weakest_along(), across = able.weakest_across();
   p.accel = p.decel = {along.accel_mps2, along.mode};
   p.lateral = {across.accel_mps2 / kGravity, across.mode};
   return p;
@@ -253,6 +278,10 @@ struct AxisTask {
   /// start) runs as any faster one up to t. A probe that fails at t within its demand then says
   /// every value from there up fails too: the same run, up to round-off (search_axis).
   std::function<double(double)> same_until;
+  /// Where the pallet breaks loose on its belt (the axis's unit; 0: not checked). A load whose
+  /// items can move may fail below it and hold above it (search_envelope): a limit above it is
+  /// checked just below it.
+  double belt_onset = 0.0;
 };
 
 struct AxisOutcome {
@@ -590,6 +619,56 @@ int resolved_threads(int requested) {
 
 }  // namespace
 
+namespace {
+
+// Adds the probes and counters of `more` (run after `into`'s) to `into`.
+void add_probes(AxisOutcome& into, const AxisOutcome& more) {
+  into.probes.insert(into.probes.end(), more.probes.begin(), more.probes.end());
+  into.ran_ahead += more.ran_ahead;
+  into.speculative += more.speculative;
+}
+
+// `a`, the outcome of task `t`, checked below the pallet's slip onset on its belt
+// (search_envelope): a limit above the onset stands if the load holds at kConeSaturated of it,
+// where the pallet still holds (its contacts use less of their cone) and the load feels the most it
+// can; where it fails there, the axis is searched below it. `run` runs a search.
+template <typename Run>
+AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& run) {
+  const double check = kConeSaturated * t.belt_onset;
+  if (!a.limit || t.belt_onset <= 0.0 || check <= t.lo || a.limit->limit <= check) return a;
+  AxisTask at = t;
+  at.lo = at.hi = at.seed = check;
+  AxisOutcome c = run(at);
+  const AxisLimit above = *a.limit;
+  add_probes(a, c);
+  if (!c.limit) {  // unstable, or an error: the axis has no limit
+    a.limit.reset();
+    a.unstable = c.unstable;
+    a.batch_error = c.batch_error;
+    a.error = c.error;
+    return a;
+  }
+  a.limit->probes = above.probes + c.limit->probes;
+  if (!c.limit->at_floor) return a;  // it holds just below the onset: the limit above stands
+  AxisTask below = t;
+  below.hi = check;
+  below.known[check] = {true, c.limit->mode, 1.0};
+  below.seed = std::min(t.seed, check);
+  AxisOutcome b = run(below);
+  add_probes(a, b);
+  a.limit = b.limit;
+  a.unstable = b.unstable;
+  a.batch_error = b.batch_error;
+  a.error = b.error;
+  if (a.limit) {
+    a.limit->closed_form = above.closed_form;
+    a.limit->probes = above.probes + c.limit->probes + b.limit->probes;
+  }
+  return a;
+}
+
+}  // namespace
+
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
                                  const QuasiStaticBounds& bounds, const LineDescription& line,
                                  const SearchConfig& s, const SimOptions& sim_options) {
@@ -648,9 +727,17 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
   const AxisPredictions rigid = rigid_predictions(bounds, line, s, o.thresholds);
   const bool one_body = bounds.one_body();
+  // Where no mechanism of the load can act below the pallet's slip (carried), the pallet's slide
+  // fails it as it does a load that moves as one body, monotonically: searched from its
+  // prediction, with no check below a safe seed (the load below the pallet's onset is checked
+  // once, guard_below_belt_onset).
+  auto walks = [&](const AxisPrediction& p) {
+    return !one_body && p.mode != FailureMode::pallet_slip;
+  };
   auto seed = [&](const AxisPrediction& p, const AxisPrediction& r, double hi, double precision) {
-    if (!one_body) return std::min(p.value + precision, r.value);
-    return p.value >= hi ? hi : p.value - 0.5 * precision;
+    if (walks(p)) return std::min(p.value + precision, r.value);
+    const double at = one_body ? p.value : r.value;
+    return at >= hi ? hi : at - 0.5 * precision;
   };
   // The e-stop speed axis is one experiment cut at different times (AxisTask::same_until); taken
   // where axes may be answered from the physics (derive_axes), while the judge simulates them.
@@ -660,6 +747,15 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       return line.estop_decel_mps2 * std::max(0.0, t - kSettleLead);
     };
   }
+  // A load whose items can move is carried by its pallet, and friction cannot push the pallet
+  // harder than its belt holds it: past the pallet's slip onset the load feels at most that onset
+  // while the pallet breaks loose and mu_d g while it slides. So an item that fails at a demand
+  // between its own onset and the pallet's may hold at any demand above the pallet's: a limit the
+  // search finds above that onset is checked just below it (guard_below_belt_onset). A load that
+  // moves as one body is searched from its closed form, which names its lowest failure.
+  const double along_onset = one_body ? 0.0 : belt_onset_mps2(bounds.along);
+  const double across_onset =
+      one_body ? 0.0 : belt_onset_mps2(in_a_curve(bounds.across, line.curve_radius_m)) / kGravity;
   const std::vector<AxisTask> tasks{
       {Axis::accel,
        s.accel_min_mps2,
@@ -669,9 +765,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.accel.value,
        [&](double a) { return accel_probe_profile(a, s); },
        {},
-       !one_body,
+       walks(predicted.accel),
        s.hasten_walk,
-       {}},
+       {},
+       along_onset},
       {Axis::decel,
        s.decel_min_mps2,
        s.decel_max_mps2,
@@ -680,9 +777,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.decel.value,
        [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); },
        {},
-       !one_body,
+       walks(predicted.decel),
        s.hasten_walk,
-       {}},
+       {},
+       along_onset},
       {Axis::lateral,
        s.lateral_min_g,
        s.lateral_max_g,
@@ -691,9 +789,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        predicted.lateral.value,
        [&](double g) { return lateral_probe_profile(g, line, s); },
        {},
-       !one_body,
+       walks(predicted.lateral),
        s.hasten_walk,
-       {}},
+       {},
+       across_onset},
       {Axis::speed,
        s.speed_min_mps,
        s.speed_max_mps,
@@ -704,7 +803,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        {},
        false,  // one experiment cut at different times (same_until): failure is monotone in v
        s.hasten_walk,
-       estop_same_until},
+       estop_same_until,
+       0.0},  // the e-stop's deceleration is the line's: no higher demand is probed
   };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
@@ -747,9 +847,12 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // holds there); the limit is the lower, with the mode and turn of the one that fails above it.
   const bool both_turns = curve_turns(config).size() > 1;
   auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    auto run = [&](const AxisTask& task) {
+    auto search_once = [&](const AxisTask& task) {
       return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
                          ahead, s.speculate_after_ms);
+    };
+    auto run = [&](const AxisTask& task) {
+      return guard_below_belt_onset(task, search_once(task), search_once);
     };
     AxisOutcome a = run(tasks[i]);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;

@@ -216,6 +216,12 @@ std::vector<StudyConfig> study_configs() {
   out.push_back(make("default-fixed-walk",
                      "the default with the walk down in fixed steps (three single, then doubling)",
                      fixed_walk));
+  AnalyzerOptions solver_kinetic;  // the shipped default, sliding pairs in MuJoCo's cone
+  solver_kinetic.scene.solver_kinetic_friction = true;
+  out.push_back(make("default-solver-kinetic",
+                     "the default with sliding pairs in MuJoCo's friction cone at mu_d (a sliding "
+                     "pallet hops; the model until session 17)",
+                     solver_kinetic));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;
@@ -293,6 +299,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (q.confirm_limits) j["confirm_limits"] = true;
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
   if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
+  if (s.solver_kinetic_friction) j["solver_kinetic_friction"] = true;
   return fingerprint_json(j);
 }
 

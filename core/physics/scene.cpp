@@ -239,6 +239,10 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
     << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
     << "\" nuserdata=\"" << kFrictionStateSlots * plan.pairs.size() + kDemandFieldSlots << "\"/>\n"
+    << (o.solver_kinetic_friction
+            ? "  <custom><numeric name=\"" + std::string(kSolverKineticFriction) +
+                  "\" data=\"1\"/></custom>\n"
+            : std::string())
     << (o.aftermath ? "  <default><geom contype=\"1\" conaffinity=\"1\" condim=\"3\" solref=\"" +
                           nums(o.contact_solref) + "\" solimp=\"" + nums(o.contact_solimp) +
                           "\"/></default>\n"

@@ -37,6 +37,12 @@ struct SceneOptions {
   /// closed form (the soft default tips 2-3 % early: the rear edge sinks in).
   std::array<double, 2> contact_solref{0.02, 1.0};
   std::array<double, 5> contact_solimp{0.99, 0.999, 0.001, 0.5, 2.0};
+  /// How a contact pair that has broken loose slides (step.hpp). false (the default): Coulomb's
+  /// kinetic friction mu_d N acts on its contacts explicitly and the solve sees them frictionless.
+  /// true: MuJoCo's own friction cone at mu_d, whose soft sliding contacts push the surfaces
+  /// apart: a pallet sliding on its belt hops (its normal force swings from 0 to 3-8 times its
+  /// weight) and shakes its load loose (core/README.md "Sliding is Coulomb's"). For studies.
+  bool solver_kinetic_friction = false;
   /// Belt: a heavy body on slide joints driven by velocity actuators with kv = ratio * M / dt.
   /// Explicit (Euler) integration of kv is stable for ratio < 2; 1 is deadbeat tracking.
   double belt_mass_kg = 2000.0;

@@ -12,15 +12,22 @@ namespace {
 
 // The pair a contact belongs to (its index), or -1.
 int pair_of(const mjModel* m, const mjContact& c) {
-  if (c.dim != 3) return -1;
+  if (c.dim != 3 && c.dim != 1) return -1;
   const double tag = c.friction[4];
   const int p = static_cast<int>(std::lround(tag)) - 1;
   if (p < 0 || p >= m->npair || std::abs(tag - double(p + 1)) > 1e-9) return -1;
   return p;
 }
 
-// How fast the two bodies' surfaces slide past each other at the contact (m/s).
-double slip_speed(const mjModel* m, const mjData* d, const mjContact& c) {
+// Whether the scene asks for MuJoCo's friction cone on sliding pairs (kSolverKineticFriction).
+bool solver_kinetic(const mjModel* m) {
+  if (m->nnumeric == 0) return false;
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, kSolverKineticFriction);
+  return id >= 0 && m->numeric_data[m->numeric_adr[id]] != 0.0;
+}
+
+// How the second body's surface slides past the first's at the contact (m/s, tangential).
+void slip_velocity(const mjModel* m, const mjData* d, const mjContact& c, double out[3]) {
   double v[2][3];
   for (int k = 0; k < 2; ++k) {
     const int body = m->geom_bodyid[k == 0 ? c.geom1 : c.geom2];
@@ -35,7 +42,7 @@ double slip_speed(const mjModel* m, const mjData* d, const mjContact& c) {
   const double rel[3] = {v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
   const mjtNum* n = c.frame;  // the first row is the normal
   const double along_n = rel[0] * n[0] + rel[1] * n[1] + rel[2] * n[2];
-  return std::hypot(rel[0] - along_n * n[0], rel[1] - along_n * n[1], rel[2] - along_n * n[2]);
+  for (int k = 0; k < 3; ++k) out[k] = rel[k] - along_n * n[k];
 }
 
 // How much of its friction cone a contact used in the last constraint solve, in the cone's own
@@ -44,8 +51,10 @@ double slip_speed(const mjModel* m, const mjData* d, const mjContact& c) {
 // for the ellipse the norm of t_i / mu_i. It reaches the normal force exactly when the solver
 // holds the contact on the cone's surface. Returns {used, normal}.
 std::pair<double, double> cone_use(const mjModel* m, const mjData* d, const mjContact& c) {
-  if (c.efc_address < 0 || c.dim < 3) return {0.0, 0.0};
+  if (c.efc_address < 0) return {0.0, 0.0};
   const mjtNum* f = d->efc_force + c.efc_address;
+  if (c.dim == 1) return {f[0], f[0]};  // a sliding pair's contact: on its cone
+  if (c.dim < 3) return {0.0, 0.0};
   if (m->opt.cone == mjCONE_PYRAMIDAL) {
     double used = 0.0, normal = 0.0;
     for (int i = 0; i < c.dim - 1; ++i) {
@@ -71,12 +80,15 @@ struct PairState {
   mjtNum* slipped;  // m slipped on the static cone since the pair last held
   mjtNum* use;      // how much of its cone the pair used in the last step
   mjtNum* scratch;
+  mjtNum* load;  // N: the pair's normal force in the last solve that had contacts
+  mjtNum* slip;  // 3 per pair: its contacts' mean slip (m/s) when kinetic friction last acted
 };
 
 std::optional<PairState> pair_state(const mjModel* m, mjData* d) {
   const int n = m->npair;
   if (n == 0 || m->nuserdata < kFrictionStateSlots * n) return std::nullopt;
-  return PairState{d->userdata, d->userdata + n, d->userdata + 2 * n, d->userdata + 3 * n};
+  mjtNum* u = d->userdata;
+  return PairState{u, u + n, u + 2 * n, u + 3 * n, u + 4 * n, u + 5 * n};
 }
 
 }  // namespace
@@ -105,7 +117,10 @@ void record_cone_use(const mjModel* m, mjData* d) {
     s->use[p] += used;
     normal[p] += n;
   }
-  for (int p = 0; p < m->npair; ++p) s->use[p] = normal[p] > 0.0 ? s->use[p] / normal[p] : kUnknown;
+  for (int p = 0; p < m->npair; ++p) {
+    s->use[p] = normal[p] > 0.0 ? s->use[p] / normal[p] : kUnknown;
+    if (normal[p] > 0.0) s->load[p] = normal[p];
+  }
 }
 
 // Between mj_collision and mj_makeConstraint: each pair's state from its contacts' slip and the
@@ -113,19 +128,30 @@ void record_cone_use(const mjModel* m, mjData* d) {
 void coulomb_friction(const mjModel* m, mjData* d) {
   const auto s = pair_state(m, d);
   if (!s) return;
+  const bool solver = solver_kinetic(m);
   mjtNum* fastest = s->scratch;
   std::fill(fastest, fastest + m->npair, kUnknown);
+  // Per sliding pair, how its contacts now slip along its slip when kinetic friction last acted
+  // (negative: that friction stopped it within the step and turned it back).
+  mjtNum* along = s->slipped;  // a sliding pair's slipped slot is unused
   bool velocities = false;
   for (int i = 0; i < d->ncon; ++i) {
     const int p = pair_of(m, d->contact[i]);
     if (p < 0) continue;
     // The slip matters only to a pair that slides or was on its cone; the others just hold.
-    const bool needed = s->sliding[p] != 0.0 || s->use[p] >= kConeSaturated;
+    const bool sliding = s->sliding[p] != 0.0;
+    const bool needed = sliding || s->use[p] >= kConeSaturated;
     if (needed && !velocities) {
       mj_comVel(m, d);  // this step's body velocities (mj_fwdVelocity computes them again)
       velocities = true;
     }
-    fastest[p] = std::max(fastest[p], needed ? slip_speed(m, d, d->contact[i]) : 0.0);
+    double v[3] = {0.0, 0.0, 0.0};
+    if (needed) slip_velocity(m, d, d->contact[i], v);
+    fastest[p] = std::max(fastest[p], std::hypot(v[0], v[1], v[2]));
+    if (sliding) {
+      const mjtNum* was = s->slip + 3 * p;
+      along[p] += v[0] * was[0] + v[1] * was[1] + v[2] * was[2];
+    }
   }
   bool any_sliding = false;
   for (int p = 0; p < m->npair; ++p) {
@@ -133,18 +159,24 @@ void coulomb_friction(const mjModel* m, mjData* d) {
     // empty for a step while a pallet slides on its belt), keeps its state.
     if (fastest[p] == kUnknown || s->use[p] == kUnknown) {
       any_sliding = any_sliding || s->sliding[p] != 0.0;
+      if (s->sliding[p] != 0.0) s->slipped[p] = 0.0;
       continue;
     }
     const bool slips = fastest[p] > kStickMps;
     if (s->sliding[p] != 0.0) {
-      if (!slips) s->sliding[p] = 0.0;
+      // Explicit kinetic friction that turned the slip back has stopped it: the pair holds.
+      const bool turned_back = !solver && along[p] < 0.0;
+      if (!slips || turned_back) s->sliding[p] = 0.0;
     } else if (slips && s->use[p] >= kConeSaturated) {
       s->slipped[p] += fastest[p] * m->opt.timestep;
       if (s->slipped[p] >= kBreakLooseM) s->sliding[p] = 1.0;
     } else {
       s->slipped[p] = 0.0;
     }
-    if (s->sliding[p] == 0.0) continue;
+    if (s->sliding[p] == 0.0) {
+      std::fill(s->slip + 3 * p, s->slip + 3 * p + 3, 0.0);
+      continue;
+    }
     any_sliding = true;
     s->slipped[p] = 0.0;
   }
@@ -152,7 +184,49 @@ void coulomb_friction(const mjModel* m, mjData* d) {
   for (int i = 0; i < d->ncon; ++i) {
     mjContact& c = d->contact[i];
     const int p = pair_of(m, c);
-    if (p >= 0 && s->sliding[p] != 0.0) c.friction[0] = c.friction[1] = c.friction[2];
+    if (p < 0 || s->sliding[p] == 0.0) continue;
+    if (solver) {
+      c.friction[0] = c.friction[1] = c.friction[2];
+    } else {
+      c.dim = 1;
+    }
+  }
+}
+
+// After mj_fwdVelocity: a sliding pair's contacts are frictionless in the solve (coulomb_friction
+// made them dim 1) and Coulomb's kinetic friction acts on them here, explicitly: at each contact
+// against its slip, mu_d times its share of the pair's normal force in the last solve (shared by
+// how deep each contact sinks: a soft contact's force grows with its depth). The pair's mean slip
+// is kept: should the friction turn it back within the step, the slip has stopped and the pair
+// holds again (coulomb_friction), as a light carton under a heavy one does.
+void kinetic_friction(const mjModel* m, mjData* d) {
+  const auto s = pair_state(m, d);
+  if (!s || !any_pair_sliding(m, d) || solver_kinetic(m)) return;
+  auto sliding_contact = [&](const mjContact& c) { return c.dim == 1 ? pair_of(m, c) : -1; };
+  mjtNum* depth = s->scratch;
+  std::fill(depth, depth + m->npair, 0.0);
+  for (int i = 0; i < d->ncon; ++i) {
+    const int p = sliding_contact(d->contact[i]);
+    if (p < 0) continue;
+    depth[p] += std::max(-d->contact[i].dist, 0.0);
+    std::fill(s->slip + 3 * p, s->slip + 3 * p + 3, 0.0);
+  }
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const int p = sliding_contact(c);
+    if (p < 0 || !(depth[p] > 0.0)) continue;
+    const double share = std::max(-c.dist, 0.0) / depth[p];
+    double v[3];
+    slip_velocity(m, d, c, v);
+    for (int k = 0; k < 3; ++k) s->slip[3 * p + k] += share * v[k];
+    const double speed = std::hypot(v[0], v[1], v[2]);
+    if (!(speed > 0.0)) continue;
+    const double k = c.friction[2] * share * s->load[p] / speed;
+    mjtNum on2[3] = {-k * v[0], -k * v[1], -k * v[2]}, on1[3] = {k * v[0], k * v[1], k * v[2]};
+    mjtNum none[3] = {0.0, 0.0, 0.0};
+    mjtNum at[3] = {c.pos[0], c.pos[1], c.pos[2]};
+    mj_applyFT(m, d, on2, none, at, m->geom_bodyid[c.geom2], d->qfrc_passive);
+    mj_applyFT(m, d, on1, none, at, m->geom_bodyid[c.geom1], d->qfrc_passive);
   }
 }
 
@@ -222,6 +296,7 @@ void step(const mjModel* m, mjData* d) {
   mj_sensorPos(m, d);
   if (mjENABLED(mjENBL_ENERGY)) mj_energyPos(m, d);
   mj_fwdVelocity(m, d);
+  kinetic_friction(m, d);
   mj_sensorVel(m, d);
   if (mjENABLED(mjENBL_ENERGY)) mj_energyVel(m, d);
   mj_fwdActuation(m, d);

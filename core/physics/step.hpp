@@ -12,8 +12,13 @@ namespace pb {
 /// What step() keeps per contact pair in mjData::userdata (the scene sizes nuserdata to this
 /// many per pair; the slots are part of the simulation state, sim_state.hpp): whether the pair
 /// slides; how far it has slipped on its static cone since it last held; how much of its friction
-/// cone it used in the last step (0..1); scratch.
-inline constexpr int kFrictionStateSlots = 4;
+/// cone it used in the last step (0..1); scratch; its normal force in the last solve that had
+/// contacts of it (N: what its kinetic friction is computed from while it slides); its contacts'
+/// mean slip when kinetic friction last acted on it (3: m/s, world axes).
+inline constexpr int kFrictionStateSlots = 8;
+/// The MJCF custom numeric (value 1) by which a scene asks for MuJoCo's own friction cone on
+/// sliding pairs (SceneOptions::solver_kinetic_friction) instead of explicit Coulomb friction.
+inline constexpr const char* kSolverKineticFriction = "pb_solver_kinetic_friction";
 /// A pair whose contacts together use this much of their friction cone is on it: the solver holds
 /// the friction force at its limit, so the pair slips rather than creeps. (The cone's own measure,
 /// cone_use in step.cpp; a soft contact under a load inside the cone uses 0.95 at 0.31 g on a
@@ -65,12 +70,16 @@ inline constexpr double kLevelContactNz = 0.7;
 bool any_pair_sliding(const mjModel* m, const mjData* d);
 
 /// mj_step for the Euler integrator (the only one the scenes use; any other is stepped by
-/// mj_step itself), with each pair contact's sliding coefficient set between collision detection
-/// and constraint construction: the pair's static coefficient (friction[0]) while it holds, its
-/// kinetic one (friction[2], which a condim-3 contact does not otherwise use) once it has broken
-/// loose, until it sticks again. A contact whose friction[4] does not name a pair (the aftermath
-/// model's geom contacts) is left as MuJoCo made it. Level contacts' tangent directions follow a
-/// stated DemandField. While no pair has broken loose and no field is stated the step is
+/// mj_step itself), with Coulomb friction per contact pair: while a pair holds, its contacts are
+/// MuJoCo's friction cones at the pair's static coefficient (friction[0]); once it has broken
+/// loose, until it sticks again, its contacts enter the solve frictionless (condim 1) and its
+/// kinetic friction (friction[2], which a condim-3 contact does not otherwise use) acts on them
+/// explicitly: at each contact mu_d N_i against the contact's slip, N_i the pair's normal force in
+/// the last solve shared among its contacts by how deep each sinks. MuJoCo's cone at mu_d instead
+/// (the scene's kSolverKineticFriction) lets a sliding pallet hop on its belt: its soft sliding
+/// contacts push the surfaces apart. A contact whose friction[4] does not name a pair (the
+/// aftermath model's geom contacts) is left as MuJoCo made it. Level contacts' tangent directions
+/// follow a stated DemandField. While no pair has broken loose and no field is stated the step is
 /// mj_step's, bit for bit.
 void step(const mjModel* m, mjData* d);
 

@@ -18,9 +18,10 @@ struct Rig {
   std::string error;  ///< what failed, empty when the rig is ready
 };
 
-inline Rig settled_rig(const PalletConfig& config, const FrictionModel& friction) {
+inline Rig settled_rig(const PalletConfig& config, const FrictionModel& friction,
+                       const SceneOptions& options = {}) {
   Rig rig;
-  auto scene = build_scene(config, {}, friction);
+  auto scene = build_scene(config, options, friction);
   if (!scene) return {nullptr, nullptr, {}, "build_scene failed"};
   rig.scene = std::make_unique<Scene>(std::move(*scene.value));
   auto sim = Simulator::create(*rig.scene);

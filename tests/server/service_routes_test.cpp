@@ -130,20 +130,20 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(mjcf["bytes"].get<std::size_t>(), mjcf["mjcf_xml"].get<std::string>().size());
   }
 
-  // The post: POST /solve {pallet: tower, profile: 2.0 m/s, 6.0 m/s^2, 1.5 s, include_replay}
-  // -> failure {"mode": "top_item_slide", "time_s": 0.242}.
+  // The post: POST /solve {pallet: tower, profile: a 1.8 m curve at 2 m/s, include_replay}
+  // -> failure {"mode": "top_item_slide", "time_s": 1.003, "items": [7]}.
   void solve_as_the_post_shows() {
     const std::string pallet = pallet_of(*client_, "tall-unwrapped-tower");
     const std::string req =
         R"({"pallet": )" + pallet +
-        R"(, "profile": {"target_speed_mps": 2.0, "accel_mps2": 6.0, "duration_s": 1.5},
-            "include_replay": true})";
+        R"(, "profile": {"shape": "curve", "target_speed_mps": 2.0, "curve_radius_m": 1.8,
+            "duration_s": 2.2}, "include_replay": true})";
     auto res = client_->Post("/solve", req, kJson);
     QCOMPARE(res->status, 200);
     const Json s = body_of(res);
     QCOMPARE(s["failure"]["mode"], "top_item_slide");
     QVERIFY(s["failure"]["time_s"].get<double>() > 0.1 &&
-            s["failure"]["time_s"].get<double>() < 0.5);
+            s["failure"]["time_s"].get<double>() < 1.5);
     const Json& r = s["replay"];
     const std::size_t frames = r["times_s"].size();
     QVERIFY(frames > 5);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/probe_run.hpp"
+#include "core/physics/step.hpp"
 
 #include <QtTest>
 #include <memory>
@@ -46,7 +47,7 @@ SimResult by_hand(const Rig& r, const ConveyorProfile& profile, const SimOptions
   load_rest_state(r.scene->layout, r.rest, run.initial_speed(), *d);
   while (!run.done()) {
     run.before_step(*d);
-    mj_step(&m, d);
+    pb::step(&m, d);
     if (!run.after_step(m, *d)) break;
   }
   return run.take_result();
