@@ -239,9 +239,8 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
   if (bounds.one_body()) return rigid_predictions(bounds, line, s, thresholds);
   // Items can slide and rock: the onsets (see the header).
   AxisPredictions p;
-  const QuasiStaticBounds able{carried(bounds.along),
-                               carried(in_a_curve(bounds.across, line.curve_radius_m))};
-  const QuasiStaticLimit along = able.weakest_along(), across = able.weakest_across();
+  QuasiStaticBounds curve{{}, in_a_curve(bounds.across, line.curve_radius_m)};
+  const QuasiStaticLimit along = bounds.weakest_along(), across = curve.weakest_across();
   p.accel = p.decel = {along.accel_mps2, along.mode};
   p.lateral = {across.accel_mps2 / kGravity, across.mode};
   return p;
@@ -457,6 +456,19 @@ class Lookahead {
 
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
 // With `cores` (k = 1 only), probes run ahead on spare cores (Lookahead).
+// Whether the lowest failure above the outcome's limit (its mode is the limit's) was an item
+// tipping over, among the outcome's probes.
+void mark_item_tipped(AxisOutcome& out) {
+  const Probe* above = nullptr;
+  for (const Probe& p : out.probes) {
+    if (p.outcome == Outcome::failed && p.value > out.limit->limit &&
+        (above == nullptr || p.value < above->value)) {
+      above = &p;
+    }
+  }
+  out.limit->item_tipped = above != nullptr && above->item_tipped;
+}
+
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
                         const SimOptions& o, bool seeded, int k, bool confirm,
                         Cores* cores = nullptr, double speculate_after_ms = 0.0) {
@@ -600,15 +612,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   }
   if (out.limit) {
     out.limit->closed_form = t.closed_form;
-    // How the lowest failure above the limit went (its mode is the limit's).
-    const Probe* above = nullptr;
-    for (const Probe& p : out.probes) {
-      if (p.outcome == Outcome::failed && p.value > out.limit->limit &&
-          (above == nullptr || p.value < above->value)) {
-        above = &p;
-      }
-    }
-    out.limit->item_tipped = above != nullptr && above->item_tipped;
+    mark_item_tipped(out);
   }
   return out;
 }
@@ -628,10 +632,11 @@ void add_probes(AxisOutcome& into, const AxisOutcome& more) {
   into.speculative += more.speculative;
 }
 
-// `a`, the outcome of task `t`, checked below the pallet's slip onset on its belt
-// (search_envelope): a limit above the onset stands if the load holds at kConeSaturated of it,
-// where the pallet still holds (its contacts use less of their cone) and the load feels the most it
-// can; where it fails there, the axis is searched below it. `run` runs a search.
+// `a`, the outcome of the axis searched as `t` (its whole range, its seed, its turn), checked below
+// the pallet's slip onset on its belt (search_envelope): a limit above 0.98 of the onset
+// (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
+// the most the pallet can pass on) stands if the load holds there; where it fails there, the axis
+// is searched below it, on what the first search learnt. `run` runs a search.
 template <typename Run>
 AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& run) {
   const double check = kConeSaturated * t.belt_onset;
@@ -640,30 +645,34 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   at.lo = at.hi = at.seed = check;
   AxisOutcome c = run(at);
   const AxisLimit above = *a.limit;
+  const std::vector<Probe> first = a.probes;
   add_probes(a, c);
-  if (!c.limit) {  // unstable, or an error: the axis has no limit
+  auto pass_on = [&](const AxisOutcome& from) {  // unstable, or an error: the axis has no limit
     a.limit.reset();
-    a.unstable = c.unstable;
-    a.batch_error = c.batch_error;
-    a.error = c.error;
+    a.unstable = from.unstable;
+    a.batch_error = from.batch_error;
+    a.error = from.error;
     return a;
-  }
-  a.limit->probes = above.probes + c.limit->probes;
-  if (!c.limit->at_floor) return a;  // it holds just below the onset: the limit above stands
+  };
+  if (!c.limit) return pass_on(c);
+  a.limit->probes = above.probes + int(c.probes.size());
+  if (!c.limit->at_floor) return a;  // it holds there: the limit above stands
   AxisTask below = t;
   below.hi = check;
-  below.known[check] = {true, c.limit->mode, 1.0};
   below.seed = std::min(t.seed, check);
+  for (const Probe& p : first) {  // what the first search found below the check
+    if (p.value < check && !p.confirmation) {
+      below.known[p.value] = {p.outcome == Outcome::failed, p.mode, p.peak_ratio};
+    }
+  }
+  below.known[check] = {true, c.limit->mode, 1.0};
   AxisOutcome b = run(below);
   add_probes(a, b);
+  if (!b.limit) return pass_on(b);
   a.limit = b.limit;
-  a.unstable = b.unstable;
-  a.batch_error = b.batch_error;
-  a.error = b.error;
-  if (a.limit) {
-    a.limit->closed_form = above.closed_form;
-    a.limit->probes = above.probes + c.limit->probes + b.limit->probes;
-  }
+  a.limit->closed_form = above.closed_form;
+  a.limit->probes = above.probes + int(c.probes.size()) + int(b.probes.size());
+  mark_item_tipped(a);
   return a;
 }
 
@@ -847,14 +856,11 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // holds there); the limit is the lower, with the mode and turn of the one that fails above it.
   const bool both_turns = curve_turns(config).size() > 1;
   auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    auto search_once = [&](const AxisTask& task) {
+    auto run = [&](const AxisTask& task) {
       return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
                          ahead, s.speculate_after_ms);
     };
-    auto run = [&](const AxisTask& task) {
-      return guard_below_belt_onset(task, search_once(task), search_once);
-    };
-    AxisOutcome a = run(tasks[i]);
+    AxisOutcome a = guard_below_belt_onset(tasks[i], run(tasks[i]), run);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
     // First the left limit itself; where the right turn fails there, a search below it from the
     // closed-form seed, as the left one started (the right turn's verdict at the top known).
@@ -878,6 +884,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       below.speculative += b.speculative;
       b = std::move(below);
     }
+    // The right turn checked below the pallet's onset too, over the axis's whole range.
+    AxisTask right_axis = tasks[i];
+    right_axis.profile = right.profile;
+    b = guard_below_belt_onset(right_axis, std::move(b), search_right);
     a.probes.insert(a.probes.end(), b.probes.begin(), b.probes.end());
     a.ran_ahead += b.ran_ahead;
     a.speculative += b.speculative;

@@ -166,7 +166,10 @@ void coulomb_friction(const mjModel* m, mjData* d) {
     if (s->sliding[p] != 0.0) {
       // Explicit kinetic friction that turned the slip back has stopped it: the pair holds.
       const bool turned_back = !solver && along[p] < 0.0;
-      if (!slips || turned_back) s->sliding[p] = 0.0;
+      if (!slips || turned_back) {
+        s->sliding[p] = 0.0;
+        s->slipped[p] = 0.0;  // it holds from here, on nothing slipped (along's sum is gone)
+      }
     } else if (slips && s->use[p] >= kConeSaturated) {
       s->slipped[p] += fastest[p] * m->opt.timestep;
       if (s->slipped[p] >= kBreakLooseM) s->sliding[p] = 1.0;

@@ -12,6 +12,7 @@
 
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
+#include "core/physics/step.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
 
@@ -319,6 +320,34 @@ class EnvelopeTest : public QObject {
     // Bisection of 4.9 m/s^2 to 0.1 takes 6 probes; the seeded search at most 5.
     QCOMPARE(bisected->accel.probes, 6);
     QVERIFY(bisected->result.sims_run > seeded->result.sims_run);
+  }
+
+  // A slipping pallet carries its load: a carton (mu 0.29 on the deck, kinetic 0.2175) on a
+  // pallet whose belt holds it to 0.30 g (kinetic 0.225) slides off at start-ups between its own
+  // onset (2.85 m/s^2) and the pallet's (2.94), and holds at 3.1-3.4 where the pallet slips and
+  // drags it at 0.225 g; the pallet's own 30 cm slide fails it above. Plain bisection lands in the
+  // safe band above the pallet's onset (3.16 holds); the check below that onset fails, and the
+  // search goes on below it, to the limit the seeded search finds from the carton's onset.
+  void aLoadThatFailsBelowItsPalletsOnsetIsAnsweredThere() {
+    auto s = settle(carton({0.4, 0.3, 0.2}, 10.0), {0.30, 0.29, 0.4, 0.75});
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto bisected = search_envelope(*s->sim, s->rest, s->bounds, line_, plain);
+    auto seeded = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(bisected.ok() && seeded.ok());
+    const double onset = 0.30 * g, check = kConeSaturated * onset;
+    bool safe_above = false, check_failed = false;
+    for (const Probe& p : bisected->probes) {
+      if (p.axis != Axis::accel) continue;
+      safe_above = safe_above || (p.value > onset && p.outcome == Outcome::safe);
+      check_failed = check_failed || (p.value == check && p.outcome == Outcome::failed);
+    }
+    QVERIFY(safe_above);  // the band the search would otherwise have answered from
+    QVERIFY(check_failed);
+    QVERIFY2(bisected->accel.limit < 0.29 * g, describe(bisected->accel));
+    QCOMPARE(bisected->accel.mode, FailureMode::top_item_slide);
+    QVERIFY2(std::abs(bisected->accel.limit - seeded->accel.limit) <= 0.1 + 1e-9,
+             describe(seeded->accel));
   }
 
   // Carton mu 0.005: it slides 5 cm even at the gentlest start-up (0.1 m/s^2 for 2 s).
