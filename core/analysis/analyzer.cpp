@@ -97,9 +97,11 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   if (options_.fidelity != Fidelity::full && options_.fidelity != Fidelity::closed_form) {
     if (auto friction = friction_->for_pallet(config)) {
       const SearchConfig& s = options_.search;
+      const double ceiling =
+          std::max({s.accel_max_mps2, s.decel_max_mps2, s.lateral_max_g * kGravity});
       choice = choose_fidelity(
           config, *friction.value,
-          std::max({s.accel_max_mps2, s.decel_max_mps2, s.lateral_max_g * kGravity}),
+          load_reach_mps2(config, *friction.value, ceiling, options_.line.curve_radius_m),
           options_.sim.thresholds, options_.fidelity);
     }
   }

@@ -2,6 +2,7 @@
 #include "core/analysis/fidelity.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/base/text.hpp"
 #include "core/physics/clustering.hpp"
@@ -9,6 +10,18 @@
 #include "core/physics/wrap.hpp"
 
 namespace pb {
+
+double load_reach_mps2(const PalletConfig& config, const ContactFriction& friction,
+                       double ceiling_mps2, double curve_radius_m) {
+  double curve = 1.0;  // the most a curve demands of an item over the centre line's v^2 / r
+  if (curve_radius_m > 0.0) {
+    for (const Item& item : config.items) {
+      const double x = item.position[0], y = std::abs(item.position[1]);
+      curve = std::max(curve, std::hypot(curve_radius_m + y, x) / curve_radius_m);
+    }
+  }
+  return std::min(ceiling_mps2, kBeltSlipOvershoot * friction.belt_pallet.mu_s * kGravity * curve);
+}
 
 FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,
                                double max_accel_mps2, const DetectorThresholds& thresholds,
@@ -18,25 +31,24 @@ FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction
   if (requested == Fidelity::full) return {requested, "requested", {}};
   if (config.items.empty()) return {Fidelity::full, "no items", {}};
   if (wrap.stiffness_n_per_m <= 0.0) {
-    // The clustered level only when asked: no onset rule tried so far both agrees with the
-    // reference and merges anything (core/README.md, clustering.hpp).
-    if (requested != Fidelity::clustered) {
-      return {Fidelity::full, "unwrapped: every item is free to slide and tip", {}};
-    }
     const Clustering c = cluster_items(config, friction, max_accel_mps2, kClusterMargin);
     const int n = static_cast<int>(config.items.size()), free = c.free_count();
-    if (free == n) {
-      return {Fidelity::full,
-              "unwrapped: every item can slide or tip below " + fixed(kClusterMargin, 2) +
-                  " x the " + fixed(c.reach_mps2, 2) + " m/s^2 the search reaches",
-              {}};
+    const std::string against = fixed(kClusterMargin, 2) + " x the " + fixed(c.reach_mps2, 2) +
+                                " m/s^2 that can reach the load";
+    // Automatically only as one rigid body: a load of free and merged items is not measured.
+    if (free == n || (free > 0 && requested != Fidelity::clustered)) {
+      return {Fidelity::full, "unwrapped: an item can slide or tip below " + against, {}};
+    }
+    if (free == 0) {
+      return {Fidelity::clustered,
+              "unwrapped, one rigid body: no item can slide or tip below " + against +
+                  " (its pallet slips on the belt first)",
+              c.carrier};
     }
     return {Fidelity::clustered,
             std::to_string(n - free) + " of " + std::to_string(n) +
-                " items cannot slide or tip below " + fixed(kClusterMargin, 2) + " x the " +
-                fixed(c.reach_mps2, 2) +
-                " m/s^2 the search reaches: merged into what carries them; " +
-                std::to_string(free) + " free",
+                " items cannot slide or tip below " + against +
+                ": merged into what carries them; " + std::to_string(free) + " free",
             c.carrier};
   }
   if (requested == Fidelity::clustered)

@@ -40,11 +40,24 @@ struct FidelityChoice {
 /// search steps from the reference's limits, and its agreement on wrapped loads rests on 14
 /// pallets so far (core/README.md, `study speed-accuracy`).
 /// `requested` other than automatic is returned as is (a reduced request on an unwrapped pallet
-/// is the full model: nothing can be merged). The clustered level (unwrapped loads: items whose
-/// onsets are all beyond kClusterMargin x the search's highest demand merged into what carries
-/// them) is given only when asked: capped at the belt's slip onset instead, it put
-/// frozen-pallet-jerk-start 7 steps above the reference (unsafe), and at the ceiling it merged no
-/// item of the 24 unwrapped pallets measured (core/README.md).
+/// is the full model: nothing can be merged). An unwrapped load is the clustered level's, one
+/// rigid body, when every item holds against kClusterMargin x `max_accel_mps2` (its slip on its
+/// support, the tip of the sub-stack it carries: clustering.hpp), where `max_accel_mps2` is the
+/// most its pallet can pass on to it (load_reach_mps2: a pallet slips on its belt first); on the
+/// unwrapped corpus 9 of 24 loads are such, every limit within 0.6 of a search step of the
+/// reference (core/README.md "The load that cannot move on its pallet"). Asked for, the
+/// clustered level also merges some items and leaves the others free.
+/// How much more than the belt's slip onset a slipping pallet's load may feel for a moment: the
+/// breakaway's static phase and its jolt (load_reach_mps2).
+inline constexpr double kBeltSlipOvershoot = 1.1;
+
+/// The most a load can be accelerated, m/s^2: the search's `ceiling_mps2`, or what its pallet can
+/// pass on before it slips on its belt if that is lower: kBeltSlipOvershoot x mu_s g, times the
+/// most a curve of `curve_radius_m` demands of an item off the centre (|(r + |y|, x)| / r at the
+/// item's place: turning_frame.hpp).
+double load_reach_mps2(const PalletConfig& config, const ContactFriction& friction,
+                       double ceiling_mps2, double curve_radius_m);
+
 FidelityChoice choose_fidelity(const PalletConfig& config, const ContactFriction& friction,
                                double max_accel_mps2, const DetectorThresholds& thresholds,
                                Fidelity requested = Fidelity::automatic);

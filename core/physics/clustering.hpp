@@ -27,14 +27,16 @@ struct Clustering {
   int free_count() const;
 };
 
-/// The demand an item is held against is the search's highest (its ceiling). The pallet's slip
-/// onset on the belt, mu_belt g, is not a cap: on frozen-pallet-jerk-start (belt mu 0.22, cartons
-/// on the deck 0.36, on each other higher) the full model and the reference configuration both
-/// find the columns shifting 2 cm against each other at 2.4-2.5 m/s^2 while the pallet slips, so a
-/// load clustered under that cap answered 3.14 m/s^2 (pallet slip) where the reference has 2.40
-/// (load shift): unsafe. Bottom-up, an item is merged into what carries it when
+/// The demand an item is held against, `max_demand_mps2`, is the most that can reach the load:
+/// the search's ceiling, or what its pallet passes on before it slips on its belt
+/// (load_reach_mps2, fidelity.hpp). Until session 17 the belt's cap was not used: the columns of
+/// frozen-pallet-jerk-start sheared 2 cm against each other while the pallet slipped, in the full
+/// model and the reference configuration alike, which was MuJoCo's sliding contacts making the
+/// pallet hop (step.hpp); with Coulomb's sliding they ride along, and the capped clustering
+/// answers as the full model does (core/README.md). Bottom-up, an item is merged into what carries
+/// it when
 ///   - everything it rests on belongs to one rigid body (the pallet's, or one free item's), and
-///   - each of its onsets, along and across, is at least `margin` x that reach: its slip on its
+///   - each of its onsets, along and across, is at least `margin` x that demand: its slip on its
 ///     support (mu g) and the tip of the sub-stack from it up over its bottom edge (g (b/2) / h).
 /// `margin` covers what the quasi-static onset leaves out: a step load's transient, and a carrier
 /// that rocks under it. Items on no support, and every item of a wrapped load (its welds hold it:

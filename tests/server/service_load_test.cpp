@@ -32,8 +32,8 @@ double metric(httplib::Client& c, const std::string& series) {
   return std::stod(res->body.substr(at + series.size() + 2));
 }
 
-std::string slow_pallet() {  // an unwrapped 24-carton load: its failure map takes many seconds
-  return pb::pallet_to_json(pb::load_scenario("frozen-pallet-jerk-start")->pallet).dump();
+std::string slow_pallet() {  // an unwrapped tower: its failure map takes seconds (240 probes)
+  return pb::pallet_to_json(pb::load_scenario("tall-unwrapped-tower")->pallet).dump();
 }
 
 }  // namespace

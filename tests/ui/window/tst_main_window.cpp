@@ -91,11 +91,11 @@ class TestMainWindow : public QObject {
   void noMapOfThePreviousPalletAndMapsAreCached() {
     MainWindow window;
     window.resize(1400, 900);
-    QVERIFY(window.loadScenario(QStringLiteral("frozen-pallet-jerk-start")));  // a 13-30 s map
+    QVERIFY(window.loadScenario(QStringLiteral("tall-unwrapped-tower")));  // a 5-10 s map
     QSignalSpy finished(&window, &MainWindow::dispatchFinished);
     QSignalSpy maps(window.service(), &pb::ui::AnalysisService::failureMapReady);
     QSignalSpy progress(window.service(), &pb::ui::AnalysisService::progress);
-    window.dispatch(pb::load_scenario("frozen-pallet-jerk-start")->suggested_profile, false, true);
+    window.dispatch(pb::load_scenario("tall-unwrapped-tower")->suggested_profile, false, true);
     QVERIFY(finished.wait(60000));  // the replay is there; the map is still being computed
     QVERIFY(window.service()->pendingCount() > 0);
     QVERIFY(window.loadScenario(QStringLiteral("stable-dairy-slab")));  // the pallet changes
