@@ -2,10 +2,12 @@
 #include "core/analysis/fidelity.hpp"
 
 #include <QtTest>
+#include <algorithm>
 #include <cmath>
 
 #include "core/analysis/analyzer.hpp"
 #include "core/inputs/scenario.hpp"
+#include "core/physics/clustering.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
 
@@ -131,6 +133,51 @@ class FidelityTest : public QObject {
     check(a->lateral, b->lateral, s.lateral_precision_g);
     check(a->speed, b->speed, s.speed_precision_mps);
     QCOMPARE(a->result.verdict, b->result.verdict);
+  }
+
+  // A load its pallet cannot shake: frozen-pallet-jerk-start's belt holds its pallet to 0.22 g,
+  // its cartons grip at 0.36 g and more, so nothing can move on the pallet and the automatic
+  // choice is one rigid body (the clustered level, no item free). Its envelope agrees with every
+  // item free within a search step, with the same modes. The reach is what the pallet passes on
+  // (1.1 x its belt's mu_s g, a curve's off-centre share on top) unless the ceiling is lower.
+  void aLoadItsPalletCannotShakeIsOneBody() {
+    auto jerk = load_scenario("frozen-pallet-jerk-start");
+    QVERIFY(jerk.ok());
+    const PalletConfig& config = jerk->pallet;
+    auto f = FrictionModel::builtin().for_pallet(config);
+    QVERIFY(f.ok());
+    const double belt = f.value->belt_pallet.mu_s * kGravity;
+    const double reach = load_reach_mps2(config, *f.value, 5.0, 3.0);
+    QVERIFY(reach > kBeltSlipOvershoot * belt && reach < 1.2 * kBeltSlipOvershoot * belt);
+    QCOMPARE(load_reach_mps2(config, *f.value, 1.0, 3.0), 1.0);
+    QCOMPARE(load_reach_mps2(config, *f.value, 5.0, 0.0), kBeltSlipOvershoot * belt);
+    const DetectorThresholds t;
+    const FidelityChoice one = choose_fidelity(config, *f.value, reach, t);
+    QCOMPARE(one.level, Fidelity::clustered);
+    QVERIFY(std::none_of(one.rigid_carrier.begin(), one.rigid_carrier.end(),
+                         [](int c) { return c == kFreeItem; }));
+    QCOMPARE(choose_fidelity(config, *f.value, 5.0, t).level, Fidelity::full);  // uncapped
+
+    Analyzer automatic(AnalyzerOptions{}, FrictionModel::builtin());
+    AnalyzerOptions o;
+    o.fidelity = Fidelity::full;
+    o.symmetry_reduction = false;
+    Analyzer full(o, FrictionModel::builtin());
+    auto a = automatic.envelope(config);
+    auto b = full.envelope(config);
+    QVERIFY(a.ok() && b.ok());
+    QCOMPARE(a->result.fidelity, Fidelity::clustered);
+    QCOMPARE(b->result.fidelity, Fidelity::full);
+    const SearchConfig s;
+    auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
+      QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,
+               qPrintable(QString("one body %1, every item %2").arg(x.limit).arg(y.limit)));
+      QCOMPARE(x.mode, y.mode);
+    };
+    check(a->accel, b->accel, s.accel_precision_mps2);
+    check(a->decel, b->decel, s.decel_precision_mps2);
+    check(a->lateral, b->lateral, s.lateral_precision_g);
+    check(a->speed, b->speed, s.speed_precision_mps);
   }
 
   // The closed-form rung: no simulation, the quasi-static bounds as the limits. (How far they are
