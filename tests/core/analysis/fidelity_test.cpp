@@ -29,6 +29,20 @@ ContactFriction friction_of(const PalletConfig& config) {
   return *friction_model().for_pallet(config).value;
 }
 
+// Every limit of `other` within one search step of `full`'s, with the same governing mode.
+void within_a_step(const Envelope& full, const Envelope& other) {
+  const SearchConfig s;
+  auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
+    QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,
+             qPrintable(QString("full %1, the other level %2").arg(x.limit).arg(y.limit)));
+    QCOMPARE(x.mode, y.mode);
+  };
+  check(full.accel, other.accel, s.accel_precision_mps2);
+  check(full.decel, other.decel, s.decel_precision_mps2);
+  check(full.lateral, other.lateral, s.lateral_precision_g);
+  check(full.speed, other.speed, s.speed_precision_mps);
+}
+
 // Four 10 kg cartons side by side, two layers: a small column-stacked load.
 PalletConfig small_load(WrapType wrap) {
   std::vector<Item> items;
@@ -122,16 +136,7 @@ class FidelityTest : public QObject {
     Analyzer automatic_full(AnalyzerOptions{}, friction_model());
     QCOMPARE((*automatic_full.prepare(tower(WrapType::none)).value)->scene->options.timestep_s,
              0.001);
-    const SearchConfig s;
-    auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
-      QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,
-               qPrintable(QString("full %1, reduced %2").arg(x.limit).arg(y.limit)));
-      QCOMPARE(x.mode, y.mode);
-    };
-    check(a->accel, b->accel, s.accel_precision_mps2);
-    check(a->decel, b->decel, s.decel_precision_mps2);
-    check(a->lateral, b->lateral, s.lateral_precision_g);
-    check(a->speed, b->speed, s.speed_precision_mps);
+    within_a_step(*a, *b);
     QCOMPARE(a->result.verdict, b->result.verdict);
   }
 
@@ -168,16 +173,7 @@ class FidelityTest : public QObject {
     QVERIFY(a.ok() && b.ok());
     QCOMPARE(a->result.fidelity, Fidelity::clustered);
     QCOMPARE(b->result.fidelity, Fidelity::full);
-    const SearchConfig s;
-    auto check = [](const AxisLimit& x, const AxisLimit& y, double step) {
-      QVERIFY2(std::abs(x.limit - y.limit) <= step + 1e-9,
-               qPrintable(QString("one body %1, every item %2").arg(x.limit).arg(y.limit)));
-      QCOMPARE(x.mode, y.mode);
-    };
-    check(a->accel, b->accel, s.accel_precision_mps2);
-    check(a->decel, b->decel, s.decel_precision_mps2);
-    check(a->lateral, b->lateral, s.lateral_precision_g);
-    check(a->speed, b->speed, s.speed_precision_mps);
+    within_a_step(*b, *a);
   }
 
   // The closed-form rung: no simulation, the quasi-static bounds as the limits. (How far they are
