@@ -206,8 +206,7 @@ std::vector<QuasiStaticLimit> carried(std::vector<QuasiStaticLimit> mechanisms) 
   const double belt = belt_onset_mps2(mechanisms);
   if (belt <= 0.0) return mechanisms;
   std::erase_if(mechanisms, [&](const QuasiStaticLimit& m) {
-    return m.mechanism != Mechanism::pallet_slip && m.mechanism != Mechanism::load_tip &&
-           m.accel_mps2 >= belt;
+    return !of_the_whole_load(m) && m.accel_mps2 >= belt;
   });
   return mechanisms;
 }
@@ -632,6 +631,16 @@ void add_probes(AxisOutcome& into, const AxisOutcome& more) {
   into.speculative += more.speculative;
 }
 
+// `into` followed by `next`, a search run after it: next's probes added, and its answer (its
+// limit, or why it has none) taken.
+void continue_with(AxisOutcome& into, const AxisOutcome& next) {
+  add_probes(into, next);
+  into.limit = next.limit;
+  into.unstable = next.unstable;
+  into.batch_error = next.batch_error;
+  into.error = next.error;
+}
+
 // `a`, the outcome of the axis searched as `t` (its whole range, its seed, its turn), checked below
 // the pallet's slip onset on its belt (search_envelope): a limit above 0.98 of the onset
 // (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
@@ -641,22 +650,18 @@ template <typename Run>
 AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& run) {
   const double check = kConeSaturated * t.belt_onset;
   if (!a.limit || t.belt_onset <= 0.0 || check <= t.lo || a.limit->limit <= check) return a;
-  AxisTask at = t;
-  at.lo = at.hi = at.seed = check;
-  AxisOutcome c = run(at);
   const AxisLimit above = *a.limit;
   const std::vector<Probe> first = a.probes;
-  add_probes(a, c);
-  auto pass_on = [&](const AxisOutcome& from) {  // unstable, or an error: the axis has no limit
-    a.limit.reset();
-    a.unstable = from.unstable;
-    a.batch_error = from.batch_error;
-    a.error = from.error;
+  AxisTask at = t;
+  at.lo = at.hi = at.seed = check;
+  const AxisOutcome c = run(at);
+  if (c.limit && !c.limit->at_floor) {  // it holds there: the limit above stands
+    add_probes(a, c);
+    a.limit->probes = above.probes + int(c.probes.size());
     return a;
-  };
-  if (!c.limit) return pass_on(c);
-  a.limit->probes = above.probes + int(c.probes.size());
-  if (!c.limit->at_floor) return a;  // it holds there: the limit above stands
+  }
+  continue_with(a, c);
+  if (!a.limit) return a;  // unstable, or an error: the axis has no limit
   AxisTask below = t;
   below.hi = check;
   below.seed = std::min(t.seed, check);
@@ -666,13 +671,12 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
     }
   }
   below.known[check] = {true, c.limit->mode, 1.0};
-  AxisOutcome b = run(below);
-  add_probes(a, b);
-  if (!b.limit) return pass_on(b);
-  a.limit = b.limit;
-  a.limit->closed_form = above.closed_form;
-  a.limit->probes = above.probes + int(c.probes.size()) + int(b.probes.size());
-  mark_item_tipped(a);
+  continue_with(a, run(below));
+  if (a.limit) {
+    a.limit->closed_form = above.closed_form;
+    a.limit->probes = above.probes + int(a.probes.size() - first.size());
+    mark_item_tipped(a);
+  }
   return a;
 }
 
@@ -878,26 +882,17 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       right.known[right.hi] = {true, b.limit->mode, 1.0};
       right.lo = tasks[i].lo;
       right.seed = std::min(tasks[i].seed, right.hi);
-      AxisOutcome below = search_right(right);
-      below.probes.insert(below.probes.begin(), b.probes.begin(), b.probes.end());
-      below.ran_ahead += b.ran_ahead;
-      below.speculative += b.speculative;
-      b = std::move(below);
+      continue_with(b, search_right(right));
     }
     // The right turn checked below the pallet's onset too, over the axis's whole range.
     AxisTask right_axis = tasks[i];
     right_axis.profile = right.profile;
     b = guard_below_belt_onset(right_axis, std::move(b), search_right);
-    a.probes.insert(a.probes.end(), b.probes.begin(), b.probes.end());
-    a.ran_ahead += b.ran_ahead;
-    a.speculative += b.speculative;
     if (!b.limit) {  // unstable, or an error: the axis has no limit
-      a.limit.reset();
-      a.unstable = b.unstable;
-      a.batch_error = b.batch_error;
-      a.error = b.error;
+      continue_with(a, b);
       return a;
     }
+    add_probes(a, b);
     const int probes = a.limit->probes + int(b.probes.size());  // the right turn's simulations
     if (!b.limit->at_ceiling) {  // the right turn fails below the left's limit: it governs
       const double closed_form = a.limit->closed_form;

@@ -2,7 +2,6 @@
 #include "core/analysis/fidelity.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include "core/base/text.hpp"
 #include "core/physics/clustering.hpp"
@@ -14,11 +13,12 @@ namespace pb {
 double load_reach_mps2(const PalletConfig& config, const ContactFriction& friction,
                        double ceiling_mps2, double curve_radius_m) {
   double curve = 1.0;  // the most a curve demands of an item over the centre line's v^2 / r
-  if (curve_radius_m > 0.0) {
-    for (const Item& item : config.items) {
-      const double x = item.position[0], y = std::abs(item.position[1]);
-      curve = std::max(curve, std::hypot(curve_radius_m + y, x) / curve_radius_m);
-    }
+  for (const Item& item : config.items) {
+    QuasiStaticLimit slip;  // a slip of the item where it stands
+    slip.mechanism = Mechanism::item_slip_on_deck;
+    slip.offset_x_m = item.position[0];
+    slip.offset_y_m = item.position[1];
+    curve = std::max(curve, curve_demand_factor(slip, curve_radius_m));
   }
   return std::min(ceiling_mps2, kBeltSlipOvershoot * friction.belt_pallet.mu_s * kGravity * curve);
 }

@@ -53,11 +53,8 @@ QuasiStaticLimit QuasiStaticBounds::weakest_across() const {
   return weakest(across);
 }
 bool QuasiStaticBounds::one_body() const {
-  auto whole = [](const QuasiStaticLimit& m) {
-    return m.mechanism == Mechanism::pallet_slip || m.mechanism == Mechanism::load_tip;
-  };
-  return std::all_of(along.begin(), along.end(), whole) &&
-         std::all_of(across.begin(), across.end(), whole);
+  return std::all_of(along.begin(), along.end(), of_the_whole_load) &&
+         std::all_of(across.begin(), across.end(), of_the_whole_load);
 }
 
 double curve_demand_factor(const QuasiStaticLimit& m, double radius_m) {

@@ -34,6 +34,12 @@ struct QuasiStaticLimit {
   double offset_x_m = 0.0, offset_y_m = 0.0;
 };
 
+/// Whether `m` moves the whole load (the pallet's slip, the loaded pallet's tip), not an item or
+/// a sub-stack on it.
+inline bool of_the_whole_load(const QuasiStaticLimit& m) {
+  return m.mechanism == Mechanism::pallet_slip || m.mechanism == Mechanism::load_tip;
+}
+
 /// How much more than the centre line's v^2 / r a curve of `radius_m` demands of mechanism `m`
 /// (turning_frame.hpp): omega^2 d on top of it at its mass's offset d, outboard in the turn that
 /// pushes it towards its nearer side. A slip is pushed by the whole horizontal demand,
