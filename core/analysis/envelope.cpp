@@ -826,13 +826,22 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
                       s.accel_max_mps2 == s.decel_max_mps2 &&
                       s.accel_precision_mps2 == s.decel_precision_mps2 &&
                       mirror_symmetric_along(config);
+  // A load whose items its pallet carries past the pallet's slip onset both ways (no mechanism of
+  // an item below that onset along the belt, `carried`) fails a start-up and a stop alike once its
+  // pallet slips: one body sliding on isotropic Coulomb friction, under the same pulse mirrored.
+  // Its stop is taken from a start-up limit whose pallet slipped, on the same thread right after
+  // it, and checked only below the pallet's onset, where an item of a load that is not its own
+  // mirror image may fail one way and not the other (guard_below_belt_onset).
+  const bool slips_both_ways =
+      s.derive_axes && !mirror && along_onset > 0.0 && s.accel_min_mps2 == s.decel_min_mps2 &&
+      s.accel_max_mps2 == s.decel_max_mps2 && s.accel_precision_mps2 == s.decel_precision_mps2 &&
+      !walks(predicted.accel) && !walks(predicted.decel);
   const bool from_stop = s.derive_axes && line.estop_decel_mps2 >= s.decel_min_mps2 &&
                          line.estop_decel_mps2 <= s.decel_max_mps2;
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
-    if (!(mirror && tasks[i].axis == Axis::decel) && !(from_stop && tasks[i].axis == Axis::speed)) {
-      order.push_back(i);
-    }
+    const bool after_start_up = (mirror || slips_both_ways) && tasks[i].axis == Axis::decel;
+    if (!after_start_up && !(from_stop && tasks[i].axis == Axis::speed)) order.push_back(i);
   }
   // Progress: a search plans kProbesPerSearch (the curated and corpus searches take 3-5).
   if (o.progress != nullptr) o.progress->plan(kProbesPerSearch * int(order.size()));
@@ -903,6 +912,35 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     a.limit->probes = probes;
     return a;
   };
+  // Whether every start-up probe was a whole pulse (it reached speed_max within max_ramp_s), as
+  // every stop probe is: only then is a start-up's outcome a stop's mirrored.
+  auto pulses = [&](const AxisOutcome& up) {
+    const double full_ramp = s.speed_max_mps / s.max_ramp_s;  // the slowest a ramp reaches speed
+    return std::all_of(up.probes.begin(), up.probes.end(),
+                       [&](const Probe& p) { return p.value >= full_ramp; });
+  };
+  // The stop as the start-up's mirror: its limit, not probed.
+  auto mirrored = [&](const AxisOutcome& up) {
+    AxisOutcome down;
+    down.limit = up.limit;
+    down.limit->closed_form = tasks[1].closed_form;
+    down.limit->probes = 0;
+    down.limit->derived = true;
+    return down;
+  };
+  // The stop of a load that slips both ways, from the start-up's outcome `up`: mirrored where the
+  // pallet's slip governs it, checked below the pallet's onset; searched otherwise.
+  auto stop_after_slip = [&](const AxisOutcome& up, Simulator& simulator, const RestState& rest) {
+    if (!up.limit || up.limit->mode != FailureMode::pallet_slip || up.limit->at_floor ||
+        !pulses(up)) {
+      return run_task(1, simulator, rest);
+    }
+    auto run = [&](const AxisTask& task) {
+      return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
+                         ahead, s.speculate_after_ms);
+    };
+    return guard_below_belt_onset(tasks[1], mirrored(up), run);
+  };
   // Runs axis task i on its plane's model (on the model's own simulator), after the others.
   auto search = [&](std::size_t i) {
     const ProbeModel m = model_of(tasks[i].axis);
@@ -910,10 +948,19 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     tell(tasks[i].axis, a);
     return a;
   };
+  // The stop of a load that slips both ways follows its start-up on the same model and thread.
+  auto stop_after = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
+    if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
+    outcomes[1] = stop_after_slip(outcomes[i], simulator, rest);
+    tell(Axis::decel, outcomes[1]);
+  };
   if (threads <= 1) {
     for (std::size_t i : order) {
       outcomes[i] = search(i);
       if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
+      const ProbeModel m = model_of(tasks[i].axis);
+      stop_after(i, *m.simulator, *m.rest);
+      if (tasks[i].axis == Axis::accel && slips_both_ways && !outcomes[1].limit) break;
     }
   } else {
     // Axes are independent: each worker takes the next axis on an mjData of its own for that
@@ -942,9 +989,12 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
           const ProbeModel m = model_of(tasks[i].axis);
           outcomes[i] = run_task(i, simulator_for(*m.simulator), *m.rest);
           tell(tasks[i].axis, outcomes[i]);
+          stop_after(i, simulator_for(*m.simulator), *m.rest);
         } catch (const std::exception& e) {
-          outcomes[i] = {};
-          outcomes[i].error = std::string(to_string(tasks[i].axis)) + " search: " + e.what();
+          const std::size_t failed = slips_both_ways && outcomes[i].limit ? 1 : i;
+          outcomes[failed] = {};
+          outcomes[failed].error =
+              std::string(to_string(tasks[failed].axis)) + " search: " + e.what();
         }
       }
     };
@@ -957,14 +1007,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   AxisOutcome& down = outcomes[1];
   AxisOutcome& estop = outcomes[3];
   if (mirror && up.limit) {
-    const double full_ramp = s.speed_max_mps / s.max_ramp_s;  // the slowest a ramp reaches speed
-    const bool pulses = std::all_of(up.probes.begin(), up.probes.end(),
-                                    [&](const Probe& p) { return p.value >= full_ramp; });
-    if (pulses) {
-      down.limit = up.limit;
-      down.limit->closed_form = tasks[1].closed_form;
-      down.limit->probes = 0;
-      down.limit->derived = true;
+    if (pulses(up)) {
+      down = mirrored(up);
       tell(Axis::decel, down);
     } else {
       if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);

@@ -116,8 +116,9 @@ struct AxisLimit {
   double closed_form =
       0.0;  ///< the closed-form prediction (predict_axis; the seed of a one-body load)
   int probes = 0;
-  /// Not probed: derived from another axis's search (search_envelope): the stop from the
-  /// start-up's (a mirror-image load), or the e-stop speed from the stop's.
+  /// Not searched: derived from another axis's search (search_envelope): the stop from the
+  /// start-up's (a mirror-image load, or one whose pallet slips first both ways: then checked with
+  /// one probe below the pallet's onset), or the e-stop speed from the stop's.
   bool derived = false;
   /// Lateral: the turn that fails just above the limit. A load that is not its own mirror image
   /// across the belt is searched in a left turn and then checked, and searched lower if need be,
@@ -185,7 +186,11 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
 /// speed_max / a (once a reaches speed_max within max_ramp_s) and the stop from speed_max at d a
 /// pulse of +d for speed_max / d: a load that is its own mirror image along the belt
 /// (mirror_symmetric_along) with equal start-up and stop ranges answers both from the start-up
-/// search, whose probes all were such pulses; otherwise the stop is searched after it. Likewise the
+/// search, whose probes all were such pulses; otherwise the stop is searched after it. So does a
+/// load whose items its pallet carries past its slip onset both ways (no item mechanism below that
+/// onset along the belt) where the start-up found its pallet slipping: one body on isotropic
+/// Coulomb friction slides alike under either pulse, so the stop takes the start-up's limit and is
+/// checked once below the pallet's onset, where an item may fail one way only. Likewise the
 /// line's e-stop from speed_max is the stop probe at the line's deceleration: when the stop search
 /// found that deceleration safe (failure is monotone along the axis, as every search assumes), the
 /// e-stop speed is at its ceiling without a probe. An unstable probe makes the whole envelope fail

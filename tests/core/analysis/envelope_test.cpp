@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/contract/pallet_metrics.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
 #include "core/physics/step.hpp"
@@ -631,6 +632,41 @@ class EnvelopeTest : public QObject {
     auto env = search_envelope(*off->sim, off->rest, off->bounds, line_, search_);
     QVERIFY(env.ok());
     QVERIFY(!env->decel.derived && env->decel.probes > 0);
+  }
+
+  // A load off the mirror plane whose pallet slips on its belt before any item moves, both ways
+  // (belt mu 0.3, the cartons' 0.6 and 0.7): once the pallet slips the load slides as one body,
+  // so its stop is the start-up's, taken on the same thread after it and checked once below the
+  // pallet's onset (0.98 of 0.3 g), where an item could fail one way only. Searched on its own,
+  // the stop lands within one step of it, with the same mode.
+  void aLoadItsPalletCarriesBothWaysTakesItsStopFromTheStartUp() {
+    const test::ConstantMu grip{0.3, 0.6, 0.7, 0.8};
+    const PalletConfig off = test::pallet({test::carton(0.2, 0, 0.15), test::carton(0.2, 0, 0.35)});
+    QVERIFY(!mirror_symmetric_along(off));
+    auto s = settle(off, grip);
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY2(env.ok(), env.ok() ? "" : env.diagnostics[0].message.c_str());
+    QCOMPARE(env->accel.mode, FailureMode::pallet_slip);
+    QVERIFY(env->decel.derived);
+    QCOMPARE(env->decel.limit, env->accel.limit);
+    QCOMPARE(env->decel.mode, FailureMode::pallet_slip);
+    std::vector<double> stops;
+    for (const Probe& p : env->probes) {
+      if (p.axis == Axis::decel) stops.push_back(p.value);
+    }
+    QCOMPARE(stops.size(), std::size_t(1));
+    QCOMPARE(env->decel.probes, 1);
+    QVERIFY2(std::abs(stops[0] - kConeSaturated * 0.3 * kGravity) < 1e-9,
+             qPrintable(QString::number(stops[0])));
+    SearchConfig each = search_;
+    each.derive_axes = false;
+    auto separate = search_envelope(*s->sim, s->rest, s->bounds, line_, each);
+    QVERIFY(separate.ok());
+    QVERIFY(!separate->decel.derived && separate->decel.probes > 1);
+    QCOMPARE(separate->decel.mode, FailureMode::pallet_slip);
+    QVERIFY2(
+        std::abs(separate->decel.limit - env->decel.limit) <= search_.decel_precision_mps2 + 1e-9,
+        describe(separate->decel));
   }
 
   // The line's curves turn both ways. A 200 kg block towards the pallet's +Y edge takes the whole
