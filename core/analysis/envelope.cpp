@@ -680,6 +680,41 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   return a;
 }
 
+// The axis searched as `t` and checked below the pallet's slip onset (guard_below_belt_onset).
+// Where its search starts above that check (a load its pallet carries: seeded from the pallet's
+// slide), the check runs first, so a load that fails there (a tall brick that shifts long before
+// its pallet slips) is searched below it at once, not after a search above it whose answer would
+// not stand; one that holds there is searched from its seed knowing so. Elsewhere, and in the
+// reference's plain bisection (`seeded` false: the judge's search is its own), the search runs
+// first and is checked after, only if it ends above the check.
+template <typename Run>
+AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& run) {
+  const double check = kConeSaturated * t.belt_onset;
+  if (!seeded || t.belt_onset <= 0.0 || check <= t.lo || t.seed <= check ||
+      t.known.count(check) > 0) {
+    return guard_below_belt_onset(t, run(t), run);
+  }
+  AxisTask at = t;
+  at.lo = at.hi = at.seed = check;
+  AxisOutcome a = run(at);
+  if (!a.limit) return a;  // unstable, or an error: the axis has no limit
+  const int checked = int(a.probes.size());
+  AxisTask then = t;
+  if (a.limit->at_floor) {  // it fails there: the axis is searched below
+    then.hi = then.seed = check;
+    then.known[check] = {true, a.limit->mode, 1.0};
+  } else {
+    then.known[check] = {false, FailureMode::no_failure,
+                         a.probes.empty() ? 0.0 : a.probes.back().peak_ratio};
+  }
+  continue_with(a, run(then));
+  if (a.limit) {
+    a.limit->probes += checked;
+    mark_item_tipped(a);
+  }
+  return a;
+}
+
 }  // namespace
 
 Result<Envelope> search_envelope(Simulator& simulator, const RestState& rest,
@@ -873,7 +908,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
                          ahead, s.speculate_after_ms);
     };
-    AxisOutcome a = guard_below_belt_onset(tasks[i], run(tasks[i]), run);
+    AxisOutcome a = checked_below_belt_onset(tasks[i], s.seed_with_closed_form, run);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
     // First the left limit itself; where the right turn fails there, a search below it from the
     // closed-form seed, as the left one started (the right turn's verdict at the top known).

@@ -669,6 +669,40 @@ class EnvelopeTest : public QObject {
         describe(separate->decel));
   }
 
+  // A load its pallet carries (the cartons grip at 0.6 and 0.7, the belt at 0.3) is seeded from
+  // its pallet's predicted slide, above 0.98 of the pallet's onset, where it is checked. Judged
+  // by a pallet slip of 2 mm, it fails there (soft contacts creep a few millimetres a second under
+  // a sustained load inside the cone): the check runs first and the start-up is searched below it
+  // at once, with no probe above it. The reference's plain bisection, which searches first and
+  // checks after, finds the same limit within a step.
+  void aCarriedLoadIsCheckedBelowItsPalletsOnsetFirst() {
+    const test::ConstantMu grip{0.3, 0.6, 0.7, 0.8};
+    auto s = settle(test::pallet({test::carton(0.2, 0, 0.15), test::carton(0.2, 0, 0.35)}), grip);
+    SimOptions creep;
+    creep.thresholds.pallet_slip_m = 0.002;
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_, creep);
+    QVERIFY2(env.ok(), env.ok() ? "" : env.diagnostics[0].message.c_str());
+    const double check = kConeSaturated * 0.3 * g;
+    std::vector<const Probe*> start_ups;
+    for (const Probe& p : env->probes) {
+      if (p.axis == Axis::accel) start_ups.push_back(&p);
+    }
+    QVERIFY(start_ups.size() > 1);
+    QCOMPARE(start_ups[0]->value, check);
+    QCOMPARE(start_ups[0]->outcome, Outcome::failed);
+    for (const Probe* p : start_ups)
+      QVERIFY2(p->value <= check, qPrintable(QString::number(p->value)));
+    QCOMPARE(env->accel.mode, FailureMode::pallet_slip);
+    QVERIFY2(env->accel.limit < check, describe(env->accel));
+    SearchConfig plain = search_;
+    plain.seed_with_closed_form = false;
+    auto bisected = search_envelope(*s->sim, s->rest, s->bounds, line_, plain, creep);
+    QVERIFY(bisected.ok());
+    QVERIFY2(
+        std::abs(bisected->accel.limit - env->accel.limit) <= search_.accel_precision_mps2 + 1e-9,
+        describe(bisected->accel));
+  }
+
   // The line's curves turn both ways. A 200 kg block towards the pallet's +Y edge takes the whole
   // loaded pallet over that edge at g (0.4 - y_com) / z_com = 0.38 g in a right turn (which pushes
   // the load towards +Y); a left turn only tips the block over its own -Y edge, at
