@@ -903,11 +903,15 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // in a left turn, then in a right one from the left limit down (one probe when the right turn
   // holds there); the limit is the lower, with the mode and turn of the one that fails above it.
   const bool both_turns = curve_turns(config).size() > 1;
-  auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    auto run = [&](const AxisTask& task) {
-      return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
-                         ahead, s.speculate_after_ms);
+  // A search of one task on `simulator` from `rest`.
+  auto searcher = [&](Simulator& simulator, const RestState& rest) {
+    return [&, sim = &simulator, from = &rest](const AxisTask& task) {
+      return search_axis(task, *sim, *from, o, s.seed_with_closed_form, k, s.confirm_limits, ahead,
+                         s.speculate_after_ms);
     };
+  };
+  auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
+    const auto run = searcher(simulator, rest);
     AxisOutcome a = checked_below_belt_onset(tasks[i], s.seed_with_closed_form, run);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
     // First the left limit itself; where the right turn fails there, a search below it from the
@@ -968,13 +972,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   auto stop_after_slip = [&](const AxisOutcome& up, Simulator& simulator, const RestState& rest) {
     if (!up.limit || up.limit->mode != FailureMode::pallet_slip || up.limit->at_floor ||
         !pulses(up)) {
+      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
       return run_task(1, simulator, rest);
     }
-    auto run = [&](const AxisTask& task) {
-      return search_axis(task, simulator, rest, o, s.seed_with_closed_form, k, s.confirm_limits,
-                         ahead, s.speculate_after_ms);
-    };
-    return guard_below_belt_onset(tasks[1], mirrored(up), run);
+    return guard_below_belt_onset(tasks[1], mirrored(up), searcher(simulator, rest));
   };
   // Runs axis task i on its plane's model (on the model's own simulator), after the others.
   auto search = [&](std::size_t i) {
@@ -1026,7 +1027,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
           tell(tasks[i].axis, outcomes[i]);
           stop_after(i, simulator_for(*m.simulator), *m.rest);
         } catch (const std::exception& e) {
-          const std::size_t failed = slips_both_ways && outcomes[i].limit ? 1 : i;
+          // The start-up ended (it has its limit): the stop that followed it threw.
+          const std::size_t failed =
+              slips_both_ways && tasks[i].axis == Axis::accel && outcomes[i].limit ? 1 : i;
           outcomes[failed] = {};
           outcomes[failed].error =
               std::string(to_string(tasks[failed].axis)) + " search: " + e.what();
