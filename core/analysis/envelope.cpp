@@ -967,11 +967,11 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     down.limit->derived = true;
     return down;
   };
-  // The stop of a load that slips both ways, from the start-up's outcome `up`: mirrored where the
-  // pallet's slip governs it, checked below the pallet's onset; searched otherwise.
+  // The stop of a load that slips both ways, from the start-up's outcome `up` (which has a limit):
+  // mirrored where the pallet's slip governs it, checked below the pallet's onset; searched
+  // otherwise.
   auto stop_after_slip = [&](const AxisOutcome& up, Simulator& simulator, const RestState& rest) {
-    if (!up.limit || up.limit->mode != FailureMode::pallet_slip || up.limit->at_floor ||
-        !pulses(up)) {
+    if (up.limit->mode != FailureMode::pallet_slip || up.limit->at_floor || !pulses(up)) {
       if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
       return run_task(1, simulator, rest);
     }
@@ -986,7 +986,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   };
   // The stop of a load that slips both ways follows its start-up on the same model and thread.
   auto stop_after = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
+    // An unstable start-up fails the envelope: no stop is searched for it.
+    if (!slips_both_ways || tasks[i].axis != Axis::accel || !outcomes[i].limit) return;
     outcomes[1] = stop_after_slip(outcomes[i], simulator, rest);
     tell(Axis::decel, outcomes[1]);
   };
