@@ -646,15 +646,30 @@ void continue_with(AxisOutcome& into, const AxisOutcome& next) {
 // (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
 // the most the pallet can pass on) stands if the load holds there; where it fails there, the axis
 // is searched below it, on what the first search learnt. `run` runs a search.
+// Where the axis searched as `t` is checked below its pallet's slip onset (0.98 of it, above the
+// axis's floor), or nullopt.
+std::optional<double> belt_check(const AxisTask& t) {
+  const double check = kConeSaturated * t.belt_onset;
+  if (t.belt_onset <= 0.0 || check <= t.lo) return std::nullopt;
+  return check;
+}
+
+// The one probe of `t` at `x`, as a search of its own.
+template <typename Run>
+AxisOutcome probe_at(const AxisTask& t, double x, const Run& run) {
+  AxisTask at = t;
+  at.lo = at.hi = at.seed = x;
+  return run(at);
+}
+
 template <typename Run>
 AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& run) {
-  const double check = kConeSaturated * t.belt_onset;
-  if (!a.limit || t.belt_onset <= 0.0 || check <= t.lo || a.limit->limit <= check) return a;
+  const std::optional<double> checked_at = belt_check(t);
+  if (!a.limit || !checked_at || a.limit->limit <= *checked_at) return a;
+  const double check = *checked_at;
   const AxisLimit above = *a.limit;
   const std::vector<Probe> first = a.probes;
-  AxisTask at = t;
-  at.lo = at.hi = at.seed = check;
-  const AxisOutcome c = run(at);
+  const AxisOutcome c = probe_at(t, check, run);
   if (c.limit && !c.limit->at_floor) {  // it holds there: the limit above stands
     add_probes(a, c);
     a.limit->probes = above.probes + int(c.probes.size());
@@ -689,14 +704,12 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
 // first and is checked after, only if it ends above the check.
 template <typename Run>
 AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& run) {
-  const double check = kConeSaturated * t.belt_onset;
-  if (!seeded || t.belt_onset <= 0.0 || check <= t.lo || t.seed <= check ||
-      t.known.count(check) > 0) {
+  const std::optional<double> checked_at = belt_check(t);
+  if (!seeded || !checked_at || t.seed <= *checked_at || t.known.count(*checked_at) > 0) {
     return guard_below_belt_onset(t, run(t), run);
   }
-  AxisTask at = t;
-  at.lo = at.hi = at.seed = check;
-  AxisOutcome a = run(at);
+  const double check = *checked_at;
+  AxisOutcome a = probe_at(t, check, run);
   if (!a.limit) return a;  // unstable, or an error: the axis has no limit
   const int checked = int(a.probes.size());
   AxisTask then = t;
