@@ -11,11 +11,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -334,17 +337,41 @@ Probe make_probe(Axis axis, double x, const SimResult& r, const PalletConfig& co
 // probe is bitwise the same on any mjData); only the wall time depends on what ran ahead.
 struct Cores {
   int total = 1;
-  std::atomic<int> busy{0};                ///< axis searches running + speculative probes running
-  std::atomic<int> simulators{0};          ///< helper mjData the memory budget still allows
+  std::atomic<int> busy{0};  ///< axis searches running + speculative probes running
+  /// What the memory budget (SearchConfig::axis_memory_bytes) leaves for more mjData: an axis
+  /// thread's own simulator of a model, or a probe run ahead's.
+  std::atomic<std::int64_t> spare_bytes{0};
   std::atomic<double> last_probe_ms{0.0};  ///< the wall time of the probe any search ended last
+
+  // Takes `bytes` of the budget if they are left.
+  bool reserve(std::int64_t bytes) {
+    std::int64_t left = spare_bytes.load();
+    while (left >= bytes) {
+      if (spare_bytes.compare_exchange_weak(left, left - bytes)) return true;
+    }
+    return false;
+  }
+  void release(std::int64_t bytes) { spare_bytes += bytes; }
 };
+
+// The bytes an mjData of `simulator`'s model takes, as the memory budget counts them.
+std::int64_t budget_bytes(const Simulator& simulator) {
+  return std::int64_t(std::ceil(simulator.data_bytes()));
+}
 
 // Probes one search runs ahead of its path on spare cores (one axis thread uses it).
 class Lookahead {
  public:
-  Lookahead(Cores& cores, const Scene& scene, const RestState& rest, const SimOptions& o)
-      : cores_(cores), scene_(scene), rest_(rest), o_(o) {}
-  ~Lookahead() { drain(); }
+  /// `bytes`: what one more mjData of `scene` takes from the memory budget.
+  Lookahead(Cores& cores, const Scene& scene, std::int64_t bytes, const RestState& rest,
+            const SimOptions& o)
+      : cores_(cores), scene_(scene), bytes_(bytes), rest_(rest), o_(o) {}
+  ~Lookahead() {
+    drain();
+    const auto held = std::int64_t(idle_.size());
+    idle_.clear();
+    cores_.release(bytes_ * held);
+  }
   Lookahead(const Lookahead&) = delete;
   Lookahead& operator=(const Lookahead&) = delete;
 
@@ -425,12 +452,12 @@ class Lookahead {
       idle_.pop_back();
       return sim;
     }
-    if (cores_.simulators.fetch_sub(1) <= 0) {
-      ++cores_.simulators;
+    if (!cores_.reserve(bytes_)) return nullptr;
+    auto created = Simulator::create(scene_);
+    if (!created) {
+      cores_.release(bytes_);
       return nullptr;
     }
-    auto created = Simulator::create(scene_);
-    if (!created) return nullptr;
     return std::make_unique<Simulator>(std::move(*created.value));
   }
   // Joins a flight; keeps its result unless it was abandoned (a cancelled run has no verdict).
@@ -445,6 +472,7 @@ class Lookahead {
 
   Cores& cores_;
   const Scene& scene_;
+  std::int64_t bytes_;
   const RestState& rest_;
   SimOptions o_;
   Flights flying_;
@@ -490,7 +518,10 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     Holding& operator=(const Holding&) = delete;
   } holding(k == 1 ? cores : nullptr);
   std::unique_ptr<Lookahead> ahead;
-  if (holding.cores) ahead = std::make_unique<Lookahead>(*cores, simulator.scene(), rest, o);
+  if (holding.cores) {
+    ahead =
+        std::make_unique<Lookahead>(*cores, simulator.scene(), budget_bytes(simulator), rest, o);
+  }
   // Results that exist (ran ahead and finished, or given), for the search's dry runs.
   std::map<double, ProbeVerdict> known = t.known;
   // The run that failed earliest into the axis (AxisTask::same_until), and the lowest value from
@@ -701,9 +732,11 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
 // its pallet slips) is searched below it at once, not after a search above it whose answer would
 // not stand; one that holds there is searched from its seed knowing so. Elsewhere, and in the
 // reference's plain bisection (`seeded` false: the judge's search is its own), the search runs
-// first and is checked after, only if it ends above the check.
+// first and is checked after, only if it ends above the check. `on_check`, where given, hears
+// whether the load held at a check run first, as soon as it is known.
 template <typename Run>
-AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& run) {
+AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& run,
+                                     const std::function<void(bool)>& on_check = {}) {
   const std::optional<double> checked_at = belt_check(t);
   if (!seeded || !checked_at || t.seed <= *checked_at || t.known.count(*checked_at) > 0) {
     return guard_below_belt_onset(t, run(t), run);
@@ -712,6 +745,7 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   AxisOutcome a = probe_at(t, check, run);
   if (!a.limit) return a;  // unstable, or an error: the axis has no limit
   const int checked = int(a.probes.size());
+  if (on_check) on_check(!a.limit->at_floor);
   AxisTask then = t;
   if (a.limit->at_floor) {  // it fails there: the axis is searched below
     then.hi = then.seed = check;
@@ -893,19 +927,27 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   }
   // Progress: a search plans kProbesPerSearch (the curated and corpus searches take 3-5).
   if (o.progress != nullptr) o.progress->plan(kProbesPerSearch * int(order.size()));
-  const double data_bytes =
-      std::max({1.0, along_model.simulator->data_bytes(), across_model.simulator->data_bytes()});
-  const int fit = std::max(1, int(s.axis_memory_bytes / data_bytes));
-  const int threads = std::min(
-      fit, s.axis_threads == 0 ? int(order.size()) : std::min(s.axis_threads, int(order.size())));
-  // Probes run ahead on spare cores, with as many more mjData as the memory budget holds.
+  // The stop of a load that slips both ways follows its start-up (stop_after) unless the
+  // start-up fails its check below the pallet's onset: then it cannot end in the pallet's slip, and
+  // the stop is searched in full, beside it, by a thread of its own (a 96-carton brick shifts below
+  // its pallet's onset both ways: its start-up takes 7 probes and its stop 9).
+  const int axes = int(order.size()) + (slips_both_ways ? 1 : 0);
+  const int threads = s.axis_threads == 0 ? axes : std::min(s.axis_threads, axes);
+  // Memory: an axis thread other than the calling one, and a probe run ahead, each need an mjData
+  // of their own for their model, and a large load's is hundreds of MB (MuJoCo 2.2's njmax x
+  // njmax matrix). Every mjData the searches hold counts against axis_memory_bytes, the models'
+  // own included (the calling thread searches on those): a thread takes an axis whose model it
+  // has, or whose mjData the budget still holds, and the calling thread takes any. So a 96-carton
+  // brick, whose whole model's mjData takes 466 MB and its third along the belt 37 MB, searches
+  // its curve on the calling thread while another thread searches along the belt, where it took
+  // one axis after another when every thread was counted at the largest model.
   Cores cores;
   cores.total = resolved_threads(0);
-  cores.simulators = std::max(0, fit - threads);
-  Cores* ahead =
-      s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 && cores.simulators.load() > 0
-          ? &cores
-          : nullptr;
+  cores.spare_bytes =
+      std::int64_t(s.axis_memory_bytes) - budget_bytes(*along_model.simulator) -
+      (across_model.simulator == along_model.simulator ? 0 : budget_bytes(*across_model.simulator));
+  // Probes run ahead on spare cores, with as many more mjData as the memory budget holds.
+  Cores* ahead = s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 ? &cores : nullptr;
   // Tells `found` of a start-up, stop or curve limit as soon as it is known.
   auto tell = [&](Axis axis, const AxisOutcome& a) {
     if (found && a.limit && axis != Axis::speed) found(axis, *a.limit);
@@ -923,9 +965,30 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
                          s.speculate_after_ms);
     };
   };
+  // Where the stop of a load that slips both ways stands (stop_after, and the threads' claims).
+  struct StopAfterStartUp {
+    std::mutex mutex;  ///< also the threads' claims on axes
+    std::condition_variable changed;
+    bool released = false;  ///< the start-up failed its check: the stop is searched in full
+    bool taken = false;     ///< a thread has the stop
+    bool start_up_done = false;
+  } stop;
+  std::function<void(bool)> on_start_up_check;
+  if (slips_both_ways) {
+    on_start_up_check = [&](bool held) {
+      if (held) return;
+      {
+        const std::lock_guard lock(stop.mutex);
+        stop.released = true;
+      }
+      stop.changed.notify_all();
+    };
+  }
   auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
     const auto run = searcher(simulator, rest);
-    AxisOutcome a = checked_below_belt_onset(tasks[i], s.seed_with_closed_form, run);
+    AxisOutcome a =
+        checked_below_belt_onset(tasks[i], s.seed_with_closed_form, run,
+                                 tasks[i].axis == Axis::accel ? on_start_up_check : nullptr);
     if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
     // First the left limit itself; where the right turn fails there, a search below it from the
     // closed-form seed, as the left one started (the right turn's verdict at the top known).
@@ -998,11 +1061,30 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     return a;
   };
   // The stop of a load that slips both ways follows its start-up on the same model and thread.
+  // Where another thread took the stop once the start-up failed its check, nothing is left here.
   auto stop_after = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    // An unstable start-up fails the envelope: no stop is searched for it.
-    if (!slips_both_ways || tasks[i].axis != Axis::accel || !outcomes[i].limit) return;
+    if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
+    bool mine = false;
+    {
+      const std::lock_guard lock(stop.mutex);
+      // An unstable start-up fails the envelope: no stop is searched for it.
+      mine = !stop.taken && outcomes[i].limit.has_value();
+      stop.taken = stop.taken || mine;
+      stop.start_up_done = true;
+    }
+    stop.changed.notify_all();
+    if (!mine) return;
     outcomes[1] = stop_after_slip(outcomes[i], simulator, rest);
     tell(Axis::decel, outcomes[1]);
+  };
+  // A start-up that threw is done too: no thread may wait for it.
+  auto start_up_ended = [&](std::size_t i) {
+    if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
+    {
+      const std::lock_guard lock(stop.mutex);
+      stop.start_up_done = true;
+    }
+    stop.changed.notify_all();
   };
   if (threads <= 1) {
     for (std::size_t i : order) {
@@ -1013,15 +1095,47 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       if (tasks[i].axis == Axis::accel && slips_both_ways && !outcomes[1].limit) break;
     }
   } else {
-    // Axes are independent: each worker takes the next axis on an mjData of its own for that
+    // Axes are independent: each thread takes the next axis it can on an mjData of its own for that
     // axis's model (a probe loads the whole rest state, so it is bitwise the probe the serial
-    // search runs). The calling thread uses the models' simulators; the others make theirs.
-    std::atomic<std::size_t> next{0};
+    // search runs). The calling thread uses the models' simulators; the others make theirs within
+    // the memory budget, and end when no axis is left that they can take.
+    std::vector<bool> taken(order.size(), false);
     auto work = [&](bool caller) {
       std::map<const Scene*, std::unique_ptr<Simulator>> own;
+      std::int64_t reserved = 0;
+      // Whether this thread can search axis i: it has its model, or the budget has room for it.
+      auto can_take = [&](std::size_t i) {
+        const Simulator& model = *model_of(tasks[i].axis).simulator;
+        if (caller || own.contains(&model.scene())) return true;
+        const std::int64_t bytes = budget_bytes(model);
+        if (!cores.reserve(bytes)) return false;
+        reserved += bytes;
+        own[&model.scene()];  // made when the search starts
+        return true;
+      };
+      // The next axis this thread can take; it waits while the stop of a load that slips both ways
+      // may still be released to it.
+      auto claim = [&]() -> std::optional<std::size_t> {
+        std::unique_lock lock(stop.mutex);
+        for (;;) {
+          for (std::size_t n = 0; n < order.size(); ++n) {
+            if (taken[n] || !can_take(order[n])) continue;
+            taken[n] = true;
+            return order[n];
+          }
+          if (!slips_both_ways || stop.taken || stop.start_up_done) return std::nullopt;
+          if (stop.released) {
+            if (!can_take(1)) return std::nullopt;  // the start-up's thread searches it after
+            stop.taken = true;
+            if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
+            return 1;
+          }
+          stop.changed.wait(lock);
+        }
+      };
       auto simulator_for = [&](Simulator& model) -> Simulator& {
         if (caller) return model;
-        auto& mine = own[&model.scene()];
+        auto& mine = own.at(&model.scene());
         if (!mine) {
           auto created = Simulator::create(model.scene());
           if (!created) {
@@ -1033,8 +1147,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         }
         return *mine;
       };
-      for (std::size_t n = next++; n < order.size(); n = next++) {
-        const std::size_t i = order[n];
+      for (std::optional<std::size_t> next = claim(); next; next = claim()) {
+        const std::size_t i = *next;
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
           outcomes[i] = run_task(i, simulator_for(*m.simulator), *m.rest);
@@ -1048,7 +1162,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
           outcomes[failed].error =
               std::string(to_string(tasks[failed].axis)) + " search: " + e.what();
         }
+        start_up_ended(i);
       }
+      own.clear();
+      cores.release(reserved);
     };
     std::vector<std::thread> pool;
     for (int w = 1; w < threads; ++w) pool.emplace_back(work, false);

@@ -703,6 +703,47 @@ class EnvelopeTest : public QObject {
         describe(bisected->accel));
   }
 
+  // A load that slips both ways whose start-up fails its check below the pallet's onset cannot
+  // take its stop from the start-up: the stop is searched beside it, on a thread of its own. And
+  // axis threads make their own mjData only within the memory budget, the models' own counted:
+  // with room for none, the calling thread searches every axis. The probes are the serial
+  // search's, bit for bit, in every case (the stack of
+  // aCarriedLoadIsCheckedBelowItsPalletsOnsetFirst).
+  void aStopIsSearchedBesideAStartUpThatFailsItsCheck() {
+    const test::ConstantMu grip{0.3, 0.6, 0.7, 0.8};
+    auto s = settle(test::pallet({test::carton(0.2, 0, 0.15), test::carton(0.2, 0, 0.35)}), grip);
+    SimOptions creep;
+    creep.thresholds.pallet_slip_m = 0.002;
+    SearchConfig one = search_;
+    one.axis_threads = 1;
+    auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, one, creep);
+    QVERIFY(serial.ok());
+    QVERIFY(serial->accel.limit < kConeSaturated * 0.3 * g);  // it failed its check
+    QVERIFY(!serial->decel.derived);
+    const double model_bytes = s->sim->data_bytes();
+    for (const double budget : {model_bytes, 3.5 * model_bytes, search_.axis_memory_bytes}) {
+      SearchConfig side_by_side = search_;
+      side_by_side.axis_memory_bytes = budget;
+      side_by_side.speculate_after_ms = 0.0;
+      auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side, creep);
+      QVERIFY(env.ok());
+      QCOMPARE(env->probes.size(), serial->probes.size());
+      for (std::size_t i = 0; i < env->probes.size(); ++i) {
+        const Probe &a = serial->probes[i], &b = env->probes[i];
+        QCOMPARE(b.axis, a.axis);
+        QCOMPARE(b.value, a.value);
+        QCOMPARE(b.outcome, a.outcome);
+        QCOMPARE(b.steps, a.steps);
+        QCOMPARE(b.peak_ratio, a.peak_ratio);
+      }
+      QCOMPARE(env->accel.limit, serial->accel.limit);
+      QCOMPARE(env->decel.limit, serial->decel.limit);
+      QCOMPARE(env->decel.mode, serial->decel.mode);
+      QCOMPARE(env->lateral.limit, serial->lateral.limit);
+      if (budget == model_bytes) QCOMPARE(env->ran_ahead, 0);  // no mjData to run ahead on
+    }
+  }
+
   // The line's curves turn both ways. A 200 kg block towards the pallet's +Y edge takes the whole
   // loaded pallet over that edge at g (0.4 - y_com) / z_com = 0.38 g in a right turn (which pushes
   // the load towards +Y); a left turn only tips the block over its own -Y edge, at
