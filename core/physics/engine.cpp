@@ -108,7 +108,9 @@ Result<DataPtr> make_data(const mjModel* model) {
 
 bool mentions_buffer_overflow(const Diagnostics& diagnostics) {
   return std::any_of(diagnostics.begin(), diagnostics.end(), [](const Diagnostic& d) {
-    return d.message.find("buffer overflowed") != std::string::npos;
+    // MuJoCo's own words when its stack (the solver's work arrays) runs out.
+    return d.message.find("buffer overflowed") != std::string::npos ||
+           d.message.find("Stack overflow") != std::string::npos;
   });
 }
 

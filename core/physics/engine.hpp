@@ -69,7 +69,8 @@ std::optional<std::string> guarded(F&& fn) {
 /// carries no time: after a divergence MuJoCo has already reset the clock, so callers add theirs.
 std::optional<std::string> instability_reason(const mjModel* model, const mjData* data);
 /// Whether a failure came from a contact or constraint buffer that overflowed (the words
-/// instability_reason uses): a scene sized too small for what happened, which larger buffers cure.
+/// instability_reason uses) or from MuJoCo's stack running out: a scene sized too small for what
+/// happened, which larger buffers cure.
 bool mentions_buffer_overflow(const Diagnostics& diagnostics);
 
 /// The last warning text MuJoCo raised in this thread ("" if none). MuJoCo 2.2.2 formats warnings

@@ -178,14 +178,20 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   // contacts (8 at most, box-box), so a stacked pair is given 6; a side pair is apart at rest and
   // touches only as a load comes apart, so 1 each; a pyramidal condim-3 contact makes 4 rows
   // (elliptic 3), a weld 6. `buffer_scale` grows them after an overflow (Analyzer); an overflow
-  // is still caught and reported, never a verdict. The stack holds the solver's work arrays.
+  // is still caught and reported, never a verdict. The stack holds the solver's work arrays:
+  // Newton's Hessian takes three nv x nv arrays of it (engine_solver.c, CGallocate), which a wide
+  // single layer outgrows first (120 cartons of 10 cm on the deck: nv 728, "Stack overflow").
   const std::size_t stacked = static_cast<std::size_t>(
       std::count_if(p.pairs.begin(), p.pairs.end(), [](const Pair& q) { return q.stacked; }));
   const double want = o.buffer_scale * double(6 * stacked + (p.pairs.size() - stacked) + 8 +
                                               (o.aftermath ? 4 * n : 0));
   p.sizes.nconmax = o.nconmax > 0 ? o.nconmax : static_cast<int>(std::ceil(want));
   p.sizes.njmax = o.njmax > 0 ? o.njmax : 4 * p.sizes.nconmax + 6 * p.welds;
-  p.sizes.nstack = o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax;
+  const auto free =
+      static_cast<double>(std::count(p.rigid.carrier.begin(), p.rigid.carrier.end(), kFreeItem));
+  const double nv = 2 + 6 + 6 * free;  // the belt's two slides, the pallet's and items' free joints
+  p.sizes.nstack =
+      o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax + static_cast<int>(3 * nv * nv);
   return p;
 }
 

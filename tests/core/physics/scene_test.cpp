@@ -12,6 +12,7 @@
 
 #include "core/inputs/scenario.hpp"
 #include "core/inputs/validation.hpp"
+#include "core/physics/simulate.hpp"
 #include "core/physics/wrap.hpp"
 #include "tests/core/test_friction.hpp"
 #include "tests/core/test_pallets.hpp"
@@ -437,7 +438,8 @@ class SceneTest : public QObject {
   }
 
   // A resting stacked pair gets 6 contacts (4 at rest, 8 at most box-box), a side pair 1 (apart
-  // at rest), 8 more for the first collisions; 4 pyramidal rows a contact, 6 a weld.
+  // at rest), 8 more for the first collisions; 4 pyramidal rows a contact, 6 a weld; the stack
+  // holds Newton's three nv x nv arrays besides.
   void buffersAreSizedFromTheScene() {
     const PalletConfig config =
         pallet({carton(-0.2, 0.0, 0.15), carton(0.2, 0.0, 0.15), carton(0.2, 0.0, 0.35)},
@@ -451,7 +453,7 @@ class SceneTest : public QObject {
     // item_0/item_2 (their edges meet).
     QCOMPARE(m->nconmax, 6 * 4 + 2 + 8);
     QCOMPARE(m->njmax, 4 * m->nconmax + 6 * 3);
-    QCOMPARE(m->nstack, 400000 + 200 * m->njmax);
+    QCOMPARE(m->nstack, 400000 + 200 * m->njmax + 3 * m->nv * m->nv);
     SceneOptions o;
     o.nconmax = 123;
     o.njmax = 456;
@@ -460,6 +462,30 @@ class SceneTest : public QObject {
     QCOMPARE(set->nconmax, 123);
     QCOMPARE(set->njmax, 456);
     QCOMPARE(set->nstack, 789000);
+  }
+
+  // One layer of many small cartons has many dofs for few rows: 120 cartons of 10 cm on a GMA deck
+  // (nv 728) need more stack for Newton's Hessian (3 nv^2) than the rows' share gave, and MuJoCo
+  // stopped with "Stack overflow" (a sweep of valid pallets found it).
+  void aWideLayerHasStackForItsSolver() {
+    std::vector<Item> items;
+    for (int i = 0; i < 12; ++i) {
+      for (int j = 0; j < 10; ++j) {
+        items.push_back(carton(-0.55 + 0.1005 * i, -0.45 + 0.1005 * j, 0.14, {0.1, 0.1, 0.1}, 1.0));
+      }
+    }
+    PalletConfig config = pallet(items);
+    config.base_pallet_type = PalletType::gma;
+    config.base_dims_m = {1.219, 1.016, 0.14};
+    auto scene = build_scene(config, {}, friction_model());
+    QVERIFY2(scene.ok(), scene.ok() ? "" : scene.diagnostics[0].message.c_str());
+    const mjModel* m = scene.value->model.get();
+    QCOMPARE(m->nv, 8 + 6 * 120);
+    QVERIFY(m->nstack > 3 * m->nv * m->nv);
+    auto simulator = Simulator::create(*scene.value);
+    QVERIFY(simulator.ok());
+    auto rest = simulator.value->settle();
+    QVERIFY2(rest.ok(), rest.ok() ? "" : rest.diagnostics[0].message.c_str());
   }
 
   void invalidPalletIsRejectedWithItsPointer() {
