@@ -160,6 +160,20 @@ void AnalysisPool::remember(const std::string& key, std::shared_ptr<const Cached
   }
 }
 
+namespace {
+
+// A cached envelope is the load's (config_fingerprint leaves the pallet's id out), shared by every
+// pallet that carries that load: the answer names the pallet asked about.
+std::shared_ptr<const CachedEnvelope> named_for(std::shared_ptr<const CachedEnvelope> value,
+                                                const PalletConfig& config) {
+  if (value->envelope.result.pallet_id == config.pallet_id) return value;
+  auto named = std::make_shared<CachedEnvelope>(*value);
+  named->envelope.result.pallet_id = config.pallet_id;
+  return named;
+}
+
+}  // namespace
+
 std::variant<Analysis, Refusal, Diagnostics> AnalysisPool::analyze(Ticket& ticket,
                                                                    const PalletConfig& config) {
   const auto start = std::chrono::steady_clock::now();
@@ -171,7 +185,7 @@ std::variant<Analysis, Refusal, Diagnostics> AnalysisPool::analyze(Ticket& ticke
       std::unique_lock lock(mutex_);
       if (auto it = cache_.find(key); it != cache_.end()) {
         ++counters_.cache_hits;
-        return Analysis{it->second, true, ms_since(start)};
+        return Analysis{named_for(it->second, config), true, ms_since(start)};
       }
       if (auto it = flights_.find(key); it != flights_.end()) {
         flight = it->second;
@@ -191,7 +205,7 @@ std::variant<Analysis, Refusal, Diagnostics> AnalysisPool::analyze(Ticket& ticke
         }
         if (flight->value) {
           ++counters_.cache_hits;
-          return Analysis{flight->value, true, ms_since(start)};
+          return Analysis{named_for(flight->value, config), true, ms_since(start)};
         }
         if (flight->failure) return *flight->failure;
         continue;  // the leader was stopped: try again, perhaps as the leader

@@ -68,6 +68,24 @@ bool peer_connected(int fd) {
   return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
 }
 
+// Our JSON for a request that cpp-httplib, or the reading of its body, refused with `status`.
+std::string error_body(const httplib::Request& req, int status, std::size_t max_body) {
+  std::string detail = "the request could not be read (HTTP " + std::to_string(status) + ")";
+  if (status == 413) {
+    detail = "the body is larger than this service's limit of " + std::to_string(max_body) +
+             " bytes (--max-body); send a smaller document";
+    // cpp-httplib parses a form body itself and caps it at 8 KiB, whatever our limit.
+    if (req.get_header_value("Content-Type").starts_with("application/x-www-form-urlencoded")) {
+      detail =
+          "the body was sent as application/x-www-form-urlencoded, which is read only up "
+          "to 8192 bytes; send JSON with the header content-type: application/json";
+    }
+  }
+  const nlohmann::json body = {{"detail", detail},
+                               {"errors", {{{"pointer", ""}, {"message", detail}}}}};
+  return body.dump();  // ASCII only
+}
+
 }  // namespace
 
 struct HttpServer::Impl {
@@ -102,12 +120,13 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     if (!any) res.set_header("Vary", "Origin");
   };
   const std::size_t max_body = service.options().max_body_bytes;
-  auto handle = [&service, cors](const httplib::Request& req, httplib::Response& res) {
+  auto handle = [&service, cors](const httplib::Request& req, std::string body,
+                                 httplib::Response& res) {
     Request request;
     request.method = req.method;
     request.path = req.path;
     for (const auto& [k, v] : req.params) request.query.emplace(k, v);
-    request.body = req.body;
+    request.body = std::move(body);
     request.content_type = req.get_header_value("Content-Type");
     // Looked up lazily, by the watchdog's first poll: cheap requests never pay for it.
     auto fd = std::make_shared<int>(-2);
@@ -123,11 +142,41 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     res.status = response.status;
     res.set_content(response.body, response.content_type.c_str());
   };
-  s.Get(".*", handle);
-  s.Post(".*", handle);
-  s.Put(".*", handle);
-  s.Delete(".*", handle);
-  s.Patch(".*", handle);
+  // A body is read here, not by cpp-httplib: 0.11 holds a body to set_payload_max_length only
+  // when it comes with a Content-Length, and reads a chunked one whole, however large (a 60 MB
+  // chunked upload was read and parsed). A multipart body goes through cpp-httplib's parser and is
+  // dropped: the service takes JSON.
+  auto with_body = [handle, max_body](const httplib::Request& req, httplib::Response& res,
+                                      const httplib::ContentReader& read) {
+    std::string body;
+    std::size_t seen = 0;
+    auto within = [&](std::size_t n) {
+      seen += n;
+      return seen <= max_body;
+    };
+    const bool read_all = req.is_multipart_form_data()
+                              ? read([](const httplib::MultipartFormData&) { return true; },
+                                     [&](const char*, std::size_t n) { return within(n); })
+                              : read([&](const char* data, std::size_t n) {
+                                  if (!within(n)) return false;
+                                  body.append(data, n);
+                                  return true;
+                                });
+    if (!read_all) {
+      res.status = seen > max_body || res.status == 413 ? 413 : 400;
+      res.set_header("Connection", "close");  // what is left of the body is not read
+      res.set_content(error_body(req, res.status, max_body), "application/json");
+      return;
+    }
+    handle(req, std::move(body), res);
+  };
+  s.Get(".*", [handle](const httplib::Request& req, httplib::Response& res) {
+    handle(req, req.body, res);
+  });
+  s.Post(".*", with_body);
+  s.Put(".*", with_body);
+  s.Delete(".*", with_body);
+  s.Patch(".*", with_body);
   s.Options(".*", [cors, origins](const httplib::Request& req, httplib::Response& res) {
     cors(req, res);  // a preflight: what a browser may send
     res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
@@ -138,20 +187,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
   // What cpp-httplib answers itself (an oversized body, a malformed request) gets our JSON.
   s.set_error_handler([max_body](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;
-    std::string detail = "the request could not be read (HTTP " + std::to_string(res.status) + ")";
-    if (res.status == 413) {
-      detail = "the body is larger than this service's limit of " + std::to_string(max_body) +
-               " bytes (--max-body); send a smaller document";
-      // cpp-httplib parses a form body itself and caps it at 8 KiB, whatever our limit.
-      if (req.get_header_value("Content-Type").starts_with("application/x-www-form-urlencoded")) {
-        detail =
-            "the body was sent as application/x-www-form-urlencoded, which is read only up "
-            "to 8192 bytes; send JSON with the header content-type: application/json";
-      }
-    }
-    nlohmann::json body = {{"detail", detail},
-                           {"errors", {{{"pointer", ""}, {"message", detail}}}}};
-    res.set_content(body.dump(), "application/json");  // ASCII only
+    res.set_content(error_body(req, res.status, max_body), "application/json");
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     res.status = 500;

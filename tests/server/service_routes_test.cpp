@@ -202,6 +202,17 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(batch[1]["cache_hits"].get<int>(), 1);
     QCOMPARE(batch[0]["result"]["max_accel_mps2"], a["result"]["max_accel_mps2"]);
     QCOMPARE(batch[0]["sweep_points"], a["sweep_points"]);
+    // The cache holds the load's envelope; each answer names the pallet asked about.
+    Json renamed = Json::parse(pallet);
+    renamed["pallet_id"] = "ANOTHER-PALLET-7";
+    const Json again = body_of(client_->Post("/safety/analyze", renamed.dump(), kJson));
+    QCOMPARE(again["cache_hits"].get<int>(), 1);
+    QCOMPARE(again["result"]["pallet_id"], "ANOTHER-PALLET-7");
+    QCOMPARE(again["result"]["max_accel_mps2"], a["result"]["max_accel_mps2"]);
+    const Json both =
+        body_of(client_->Post("/safety/batch", "[" + renamed.dump() + "," + pallet + "]", kJson));
+    QCOMPARE(both[0]["result"]["pallet_id"], "ANOTHER-PALLET-7");
+    QCOMPARE(both[1]["result"]["pallet_id"], Json::parse(pallet)["pallet_id"]);
     // One invalid pallet refuses the batch, pointing into the list.
     Json broken = Json::parse(pallet);
     broken["items"][0]["weight_kg"] = -1;
@@ -297,6 +308,25 @@ class ServiceRoutesTest : public QObject {
     auto big = client_->Post("/safety/analyze", std::string(300000, ' '), kJson);
     QCOMPARE(big->status, 413);
     QVERIFY(body_of(big)["detail"].get<std::string>().find("200000") != std::string::npos);
+    // Sent in chunks, with no length: the same limit (cpp-httplib 0.11 read such a body whole).
+    auto chunks = [](std::string body) {
+      return [body = std::move(body)](std::size_t offset, httplib::DataSink& sink) {
+        if (offset < body.size()) {
+          sink.write(body.data() + offset, std::min<std::size_t>(65536, body.size() - offset));
+        } else {
+          sink.done();
+        }
+        return true;
+      };
+    };
+    auto chunked = client_->Post("/safety/analyze", chunks(std::string(300000, ' ')), kJson);
+    QVERIFY(chunked);
+    QCOMPARE(chunked->status, 413);
+    QVERIFY(body_of(chunked)["detail"].get<std::string>().find("200000") != std::string::npos);
+    auto small =
+        client_->Post("/v1/validate", chunks(pallet_of(*client_, "stable-dairy-slab")), kJson);
+    QVERIFY(small);
+    QCOMPARE(small->status, 200);
     // Over the item limit: 413 before any work.
     Json pallet = Json::parse(pallet_of(*client_, "stable-dairy-slab"));
     Json many = Json::array();
