@@ -24,6 +24,8 @@ constexpr double kNominalDimsTolerance = 0.05;
 constexpr double kCatalogTolerance = 0.01;
 // Footprint overlap (m^2) below which two items do not touch from above (1 mm^2).
 constexpr double kMinContactArea = 1e-6;
+// Lengths that meet a tolerance exactly in the input's decimals may compute a hair over it.
+constexpr double kLengthRoundOff = 1e-9;  // m
 
 std::string item_pointer(std::size_t i) {
   return "/items/" + std::to_string(i);
@@ -263,8 +265,15 @@ class PhysicalChecks {
         all_usable_(std::all_of(usable.begin(), usable.end(), [](bool u) { return u; })),
         deck_top_(config.base_dims_m[2]) {}
 
+  // The tolerances as compared: an input given to the millimetre that meets one exactly (an item
+  // at z = 0.441 m on a top at 0.440 m) computes a hair over it in doubles, and was refused.
+  double support_tolerance() const { return c_.limits().support_tolerance_m + kLengthRoundOff; }
+  double penetration_tolerance() const {
+    return c_.limits().penetration_tolerance_m + kLengthRoundOff;
+  }
+
   void run() {
-    const double tolerance = c_.limits().support_tolerance_m;
+    const double tolerance = support_tolerance();
     const std::vector<double> support = all_usable_
                                             ? support_fractions(config_, tolerance)
                                             : std::vector<double>(config_.items.size(), 1.0);
@@ -290,7 +299,7 @@ class PhysicalChecks {
 
   bool check_below_deck(std::size_t i) {
     const double sink = deck_top_ - item(i).position[2];
-    if (sink <= c_.limits().penetration_tolerance_m) return true;
+    if (sink <= penetration_tolerance()) return true;
     c_.error(item_pointer(i) + "/position/2",
              item_name(item(i), i) + " reaches " + fixed(1000.0 * sink, 1) +
                  " mm into the pallet deck; raise it to z = " + fixed(deck_top_, 3) + " m");
@@ -300,7 +309,7 @@ class PhysicalChecks {
   // Each pair is reported once, at the later item. Returns whether item j interpenetrates any
   // earlier item.
   bool check_interpenetration(std::size_t j) {
-    const double tolerance = c_.limits().penetration_tolerance_m;
+    const double tolerance = penetration_tolerance();
     bool found = false;
     for (const std::size_t i : neighbours_[j]) {
       if (i >= j) break;
@@ -328,7 +337,7 @@ class PhysicalChecks {
         rest = std::max(rest, item(k).top_z());
       }
     }
-    if (bottom - rest <= c_.limits().support_tolerance_m) return true;
+    if (bottom - rest <= support_tolerance()) return true;
     c_.error(item_pointer(i) + "/position/2",
              item_name(item(i), i) + " floats " + fixed(1000.0 * (bottom - rest), 1) +
                  " mm above what is under it; lower it to z = " + fixed(rest, 3) + " m");
@@ -341,7 +350,7 @@ class PhysicalChecks {
     const ItemStanding& s = standings_[i];
     const double required = c_.limits().stability_margin_m;
     if (s.stands(required)) return true;
-    const double tolerance = c_.limits().support_tolerance_m;
+    const double tolerance = support_tolerance();
     const std::vector<std::size_t> carried = carried_items(config_, i, tolerance);
     const std::string load = carried.empty()
                                  ? ""

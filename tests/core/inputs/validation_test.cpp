@@ -278,6 +278,8 @@ class ValidationTest : public QObject {
     PalletConfig config = valid();
     config.items[1].position[0] = 0.1985;  // 0.5 mm into item 0
     QVERIFY(validate(config).empty());
+    config.items[1].position[0] = 0.198;  // exactly 1 mm, a hair more in doubles: allowed
+    QVERIFY2(validate(config).empty(), qPrintable(describe(validate(config))));
     config.items[1].position[0] = 0.197;  // 2 mm into item 0
     EXPECT_ONE(validate(config), "/items/1", Severity::error);
     QVERIFY(contains(only.message, "2.0 mm"));
@@ -318,6 +320,11 @@ class ValidationTest : public QObject {
     QVERIFY2(contains(only.message, "lower it to z = 0.300 m"), only.message.c_str());
     config.items[2].position[2] = 0.3008;  // within the 1 mm tolerance
     QVERIFY(validate(config).empty());
+    config.items[2].position[2] = 0.301;  // exactly 1 mm, a hair more in doubles: allowed
+    QVERIFY2(validate(config).empty(), qPrintable(describe(validate(config))));
+    config.items[2].position[2] = 0.3011;
+    EXPECT_ONE(validate(config), "/items/2/position/2", Severity::error);
+    QVERIFY2(contains(only.message, "floats 1.1 mm"), only.message.c_str());
   }
 
   void floatingOverTheDeck() {
