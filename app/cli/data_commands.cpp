@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/cli/commands.hpp"
+#include "core/analysis/analyzer.hpp"
 #include "core/analysis/result_json.hpp"
 #include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
@@ -142,6 +143,14 @@ int run_validate(const Args& args) {
     for (auto d : validate(input->pallet, limits)) {
       d.pointer = input->pointer_prefix + d.pointer;
       diags.push_back(std::move(d));
+    }
+    // Valid here means an analysis will not refuse it either (no friction data for a pair, a
+    // scene larger than the engine holds).
+    if (!has_errors(diags)) {
+      for (auto d : Analyzer().simulation_problems(input->pallet)) {
+        d.pointer = input->pointer_prefix + d.pointer;
+        diags.push_back(std::move(d));
+      }
     }
   }
   print_diagnostics(diags);

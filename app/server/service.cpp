@@ -125,9 +125,18 @@ Read parse_body(const Request& request) {
 
 /// A valid pallet from `json` (read at `prefix`), or the response that says why not: 413 over the
 /// item limit (before any work), 422 with every error otherwise. Warnings come with the pallet.
+/// A pallet is also refused where the service's analyzers could not simulate it (no friction data
+/// for a pair, a scene larger than the engine holds: Analyzer::simulation_problems), so a
+/// validation that passes is one an analysis will not refuse.
+struct PalletReading {
+  std::size_t max_items = 400;
+  AnalyzerOptions analyzer;
+};
+
 std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
                                                          const std::string& prefix,
-                                                         std::size_t max_items) {
+                                                         const PalletReading& reading) {
+  const std::size_t max_items = reading.max_items;
   if (!json.is_object()) {
     return error_response(
         422, (prefix.empty() ? "the body" : prefix) + " must be a PalletConfig JSON object",
@@ -146,6 +155,12 @@ std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
   for (auto d : validate(*pallet.value)) {
     d.pointer = prefix + d.pointer;
     diags.push_back(std::move(d));
+  }
+  if (!has_errors(diags)) {
+    for (auto d : Analyzer(reading.analyzer).simulation_problems(*pallet.value)) {
+      d.pointer = prefix + d.pointer;
+      diags.push_back(std::move(d));
+    }
   }
   if (has_errors(diags)) return diagnostics_response(422, diags);
   return Result<PalletConfig>{std::move(*pallet.value), std::move(diags)};
@@ -293,7 +308,7 @@ ConveyorProfile probe_profile(Axis axis, double value, CurveTurn turn, const Lin
 // ---- the routes ----
 
 Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(options_.pool) {
-  const std::size_t max_items = options_.max_items;
+  const PalletReading reading{options_.max_items, options_.pool.analyzer};
   auto ticket_for = [this](const Request& request) {
     return std::make_unique<Ticket>(std::chrono::duration_cast<Ticket::Clock::duration>(
                                         std::chrono::duration<double>(options_.time_limit_s)),
@@ -311,14 +326,14 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     Analysis analysis;
   };
   using Check = std::function<std::optional<Response>(const Json& body, bool wrapped)>;
-  auto analysed = [this, max_items, ticket_for](
+  auto analysed = [this, reading, ticket_for](
                       const Request& request,
                       const Check& check) -> std::variant<Analysed, Response> {
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     Analysed a;
     a.body = std::move(std::get<Json>(parsed));
-    auto pallet = read_pallet(pallet_member(a.body, a.prefix), a.prefix, max_items);
+    auto pallet = read_pallet(pallet_member(a.body, a.prefix), a.prefix, reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     a.config = std::move(std::get<Result<PalletConfig>>(pallet));
     if (check) {
@@ -496,20 +511,20 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (!pallet) return core_failure(pallet.diagnostics, "");
     return json_response(200, pallet_to_json(*pallet));
   });
-  post("/pallet/validate", [max_items](const Request& request, const Params&) {
+  post("/pallet/validate", [reading](const Request& request, const Params&) {
     auto body = parse_body(request);
     if (holds_response(body)) return std::get<Response>(body);
-    auto pallet = read_pallet(std::get<Json>(body), "", max_items);
+    auto pallet = read_pallet(std::get<Json>(body), "", reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     return json_response(200, pallet_to_json(*std::get<Result<PalletConfig>>(pallet)));
   });
-  post("/v1/validate", [max_items](const Request& request, const Params&) {
+  post("/v1/validate", [reading](const Request& request, const Params&) {
     auto body = parse_body(request);
     if (holds_response(body)) return std::get<Response>(body);
     if (auto refused = unknown_members(std::get<Json>(body), {"pallet"})) return *refused;
     std::string prefix;
     const Json& pj = pallet_member(std::get<Json>(body), prefix);
-    auto pallet = read_pallet(pj, prefix, max_items);
+    auto pallet = read_pallet(pj, prefix, reading);
     if (!holds_response(pallet)) {
       const auto& p = std::get<Result<PalletConfig>>(pallet);
       return json_response(200, validation_report_to_json(*p, p.diagnostics));
@@ -522,10 +537,10 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
         200, {{"valid", false}, {"errors", refused["errors"]}, {"warnings", Json::array()}});
   });
   post("/mjcf/build",
-       [max_items](const Request& request, const Params&) {
+       [reading](const Request& request, const Params&) {
          auto body = parse_body(request);
          if (holds_response(body)) return std::get<Response>(body);
-         auto pallet = read_pallet(std::get<Json>(body), "", max_items);
+         auto pallet = read_pallet(std::get<Json>(body), "", reading);
          if (holds_response(pallet)) return std::get<Response>(pallet);
          const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
          Json out;
@@ -548,7 +563,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
        {"surface_pair"});
 
   // -- physics --
-  auto solve = [this, max_items, ticket_for, &ao](const Request& request, bool reference) {
+  auto solve = [this, reading, ticket_for, &ao](const Request& request, bool reference) {
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
@@ -564,7 +579,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
         return *refused;
       }
     }
-    auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
+    auto pallet = read_pallet(body["pallet"], "/pallet", reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
     ConveyorProfile profile;
@@ -630,7 +645,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (auto* r = std::get_if<Response>(&a)) return *r;
     return json_response(200, analyze_response_json(std::get<Analysed>(a).analysis));
   });
-  post("/safety/batch", [this, max_items, ticket_for](const Request& request, const Params&) {
+  post("/safety/batch", [this, reading, ticket_for](const Request& request, const Params&) {
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
@@ -644,7 +659,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     std::vector<PalletConfig> pallets;
     Diagnostics problems;
     for (std::size_t i = 0; i < body.size(); ++i) {
-      auto pallet = read_pallet(body[i], "/" + std::to_string(i), max_items);
+      auto pallet = read_pallet(body[i], "/" + std::to_string(i), reading);
       if (auto* r = std::get_if<Response>(&pallet)) {
         if (r->status == 413) return *r;
         const Json refused = Json::parse(r->body);
@@ -697,7 +712,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (auto* r = std::get_if<Response>(&a)) return *r;
     return json_response(200, explain_json(std::get<Analysed>(a).analysis.cached->envelope.result));
   });
-  post("/v1/map", [this, max_items, ticket_for](const Request& request, const Params&) {
+  post("/v1/map", [this, reading, ticket_for](const Request& request, const Params&) {
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
@@ -705,7 +720,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       return *refused;
     }
     std::string prefix;
-    auto pallet = read_pallet(pallet_member(body, prefix), prefix, max_items);
+    auto pallet = read_pallet(pallet_member(body, prefix), prefix, reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     MapOptions grids;
     for (auto [key, grid] : {std::pair{"speeds_mps", &grids.speeds_mps},
@@ -739,7 +754,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     out["pallet_id"] = config.pallet_id;
     return json_response(200, out);
   });
-  post("/v1/uncertainty", [this, max_items, ticket_for](const Request& request, const Params&) {
+  post("/v1/uncertainty", [this, reading, ticket_for](const Request& request, const Params&) {
     auto parsed = parse_body(request);
     if (holds_response(parsed)) return std::get<Response>(parsed);
     const Json& body = std::get<Json>(parsed);
@@ -751,7 +766,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (auto refused = unknown_members(body, {"pallet", "profile", "samples", "seed"})) {
       return *refused;
     }
-    auto pallet = read_pallet(body["pallet"], "/pallet", max_items);
+    auto pallet = read_pallet(body["pallet"], "/pallet", reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     auto profile = profile_from_json(body["profile"], "/profile");
     if (!profile) return diagnostics_response(422, profile.diagnostics);

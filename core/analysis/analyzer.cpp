@@ -83,6 +83,29 @@ SceneOptions Analyzer::scene_options_for(const FidelityChoice& choice) const {
   return o;
 }
 
+FidelityChoice Analyzer::fidelity_choice(const PalletConfig& config) const {
+  // The model level: reduced when the wrap holds the items rigidly, clustered when some items of
+  // an unwrapped load cannot move (or when asked), else full.
+  // The closed-form level needs no scene; a pallet prepared for it is simulated in full.
+  if (options_.fidelity == Fidelity::full || options_.fidelity == Fidelity::closed_form) {
+    return {Fidelity::full, "requested", {}};
+  }
+  auto friction = friction_->for_pallet(config);
+  if (!friction) return {Fidelity::full, "requested", {}};
+  const SearchConfig& s = options_.search;
+  const double ceiling = std::max({s.accel_max_mps2, s.decel_max_mps2, s.lateral_max_g * kGravity});
+  return choose_fidelity(
+      config, *friction.value,
+      load_reach_mps2(config, *friction.value, ceiling, options_.line.curve_radius_m),
+      options_.sim.thresholds, options_.fidelity);
+}
+
+Diagnostics Analyzer::simulation_problems(const PalletConfig& config) const {
+  if (options_.fidelity == Fidelity::closed_form) return {};  // nothing is simulated
+  if (auto friction = friction_->for_pallet(config); !friction) return friction.diagnostics;
+  return capacity_problems(config, scene_options_for(fidelity_choice(config)));
+}
+
 Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
   const std::string key = config_fingerprint(config);
   if (auto it = prepared_.find(key); it != prepared_.end()) {
@@ -90,21 +113,7 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     return Result<PreparedPallet*>{it->second.get(), {}};
   }
   const auto start = std::chrono::steady_clock::now();
-  // The model level: reduced when the wrap holds the items rigidly, clustered when some items of
-  // an unwrapped load cannot move (or when asked), else full.
-  // The closed-form level needs no scene; a pallet prepared for it is simulated in full.
-  FidelityChoice choice{Fidelity::full, "requested", {}};
-  if (options_.fidelity != Fidelity::full && options_.fidelity != Fidelity::closed_form) {
-    if (auto friction = friction_->for_pallet(config)) {
-      const SearchConfig& s = options_.search;
-      const double ceiling =
-          std::max({s.accel_max_mps2, s.decel_max_mps2, s.lateral_max_g * kGravity});
-      choice = choose_fidelity(
-          config, *friction.value,
-          load_reach_mps2(config, *friction.value, ceiling, options_.line.curve_radius_m),
-          options_.sim.thresholds, options_.fidelity);
-    }
-  }
+  FidelityChoice choice = fidelity_choice(config);
   // A reduced request that finds nothing to merge is the full model, at the full model's numerics.
   auto options_for = [&](const FidelityChoice& c) {
     SceneOptions o = scene_options_for(c);

@@ -105,6 +105,11 @@ class Analyzer {
   /// load that will not come to rest (a build defect).
   Result<PreparedPallet*> prepare(const PalletConfig& config);
 
+  /// What keeps a pallet that validate() accepts from being simulated here, found without
+  /// compiling anything: a contact pair with no friction data, or a scene larger than the engine
+  /// holds (capacity_problems) at the model level this analyzer would choose. Empty when it can be.
+  Diagnostics simulation_problems(const PalletConfig& config) const;
+
   /// The full SafetyResult (cached: a second call costs about a millisecond and reports 0 sims).
   Result<SafetyResult> analyze(const PalletConfig& config);
   /// The envelope with its probes (not cached).
@@ -148,6 +153,9 @@ class Analyzer {
   /// The scene numerics of a model level (merge for reduced and clustered; the full model's own
   /// timestep wherever an item is free).
   SceneOptions scene_options_for(const FidelityChoice& choice) const;
+  /// The model level for `config` (choose_fidelity with this analyzer's options), before any
+  /// scene is built.
+  FidelityChoice fidelity_choice(const PalletConfig& config) const;
 
   /// The symmetry-reduced model of `config` for `plane` (PreparedPallet::planes), or null when
   /// the load does not reduce or the reduced model cannot be settled (the full model then runs).

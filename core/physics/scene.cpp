@@ -427,6 +427,20 @@ std::optional<std::string> numerical_limits_problem(const Scene& scene) {
   return std::nullopt;
 }
 
+Diagnostics capacity_problems(const PalletConfig& config, const SceneOptions& options) {
+  const BufferSizes sizes = scene_buffer_sizes(config, options);
+  if (sizes.data_bytes() <= kMaxSimulationBytes) return {};
+  return {{"/items",
+           "this load needs " + std::to_string(sizes.njmax) + " constraint rows (" +
+               std::to_string(config.items.size()) + " items, " + std::to_string(sizes.nconmax) +
+               " contacts): one simulation would take " +
+               fixed(sizes.data_bytes() / (1024.0 * 1024.0), 0) + " MB, above the engine's " +
+               fixed(kMaxSimulationBytes / (1024.0 * 1024.0), 0) +
+               " MB (MuJoCo 2.2 holds a rows x rows matrix per simulation); split the load "
+               "into fewer, larger items, or analyse it wrapped",
+           Severity::error}};
+}
+
 Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options,
                           const FrictionModel& friction_model) {
   ValidationLimits limits;
@@ -440,17 +454,8 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   }
 
   // A scene the engine cannot hold is refused before it is compiled, in words.
-  const BufferSizes sizes = scene_buffer_sizes(config, options);
-  if (sizes.data_bytes() > kMaxSimulationBytes) {
-    return Result<Scene>::failure(
-        "/items", "this load needs " + std::to_string(sizes.njmax) + " constraint rows (" +
-                      std::to_string(config.items.size()) + " items, " +
-                      std::to_string(sizes.nconmax) + " contacts): one simulation would take " +
-                      fixed(sizes.data_bytes() / (1024.0 * 1024.0), 0) +
-                      " MB, above the engine's " +
-                      fixed(kMaxSimulationBytes / (1024.0 * 1024.0), 0) +
-                      " MB (MuJoCo 2.2 holds a rows x rows matrix per simulation); split the load "
-                      "into fewer, larger items, or analyse it wrapped");
+  if (Diagnostics too_large = capacity_problems(config, options); !too_large.empty()) {
+    return Result<Scene>::failure(std::move(too_large));
   }
   Scene scene;
   scene.config = config;

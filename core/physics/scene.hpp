@@ -100,6 +100,10 @@ inline constexpr double kMaxSimulationBytes = 256.0 * 1024 * 1024;
 
 /// The buffers build_mjcf sizes for a pallet (no friction or engine needed).
 BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options);
+/// A scene of `config` with `options` that the engine cannot hold (its mjData above
+/// kMaxSimulationBytes), in words that say what to change at /items; empty when it fits.
+/// build_scene refuses such a scene before compiling it.
+Diagnostics capacity_problems(const PalletConfig& config, const SceneOptions& options);
 
 /// Where things are in the compiled model.
 struct SceneLayout {

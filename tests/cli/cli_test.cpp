@@ -148,6 +148,22 @@ class CliTest : public QObject {
                   write_file(dir, QStringLiteral("bad2.json"), QJsonDocument(pallet).toJson())});
     QCOMPARE(r2.exit_code, 2);
     QVERIFY2(r2.err.contains("/items/0/weight_kg: "), r2.err.constData());
+
+    // Valid is what an analysis will not refuse: a plastic pallet on steel rollers has no friction
+    // data, so validate says so, as analyze does.
+    first[QStringLiteral("weight_kg")] = 10.0;
+    items[0] = first;
+    pallet[QStringLiteral("items")] = items;
+    pallet[QStringLiteral("base_pallet_type")] = QStringLiteral("CHEP");
+    pallet[QStringLiteral("belt_surface")] = QStringLiteral("steel_roller");
+    const QString unmodelled =
+        write_file(dir, QStringLiteral("steel.json"), QJsonDocument(pallet).toJson());
+    for (const char* verb : {"validate", "analyze"}) {
+      Run r3 = cli({QString::fromLatin1(verb), unmodelled});
+      QCOMPARE(r3.exit_code, 2);
+      QVERIFY2(r3.err.contains("/belt_surface: ") && r3.err.contains("no friction data"),
+               r3.err.constData());
+    }
   }
 
   // A document over the size limit is refused by its size (read no further than the limit), from

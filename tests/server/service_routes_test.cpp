@@ -125,6 +125,16 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(body_of(refused)["errors"][0]["pointer"], "/items/0/dims_m/2");
     const Json report = body_of(client_->Post("/v1/validate", broken.dump(), kJson));
     QCOMPARE(report["valid"], false);
+    // Valid is what an analysis will not refuse: no friction data for a plastic pallet on steel.
+    Json unmodelled = Json::parse(pallet);
+    unmodelled["base_pallet_type"] = "CHEP";
+    unmodelled["belt_surface"] = "steel_roller";
+    for (const char* route : {"/pallet/validate", "/safety/analyze"}) {
+      auto no_friction = client_->Post(route, unmodelled.dump(), kJson);
+      QCOMPARE(no_friction->status, 422);
+      QCOMPARE(body_of(no_friction)["errors"][0]["pointer"], "/belt_surface");
+    }
+    QCOMPARE(body_of(client_->Post("/v1/validate", unmodelled.dump(), kJson))["valid"], false);
     const Json mjcf = body_of(client_->Post("/mjcf/build", pallet, kJson));
     QVERIFY(mjcf["mjcf_xml"].get<std::string>().starts_with("<mujoco"));
     QCOMPARE(mjcf["bytes"].get<std::size_t>(), mjcf["mjcf_xml"].get<std::string>().size());
