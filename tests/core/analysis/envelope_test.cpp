@@ -108,6 +108,22 @@ std::vector<std::pair<PalletConfig, test::ConstantMu>> slider_and_tipper() {
   };
 }
 
+// The probes of `env` are `serial`'s, bit for bit, in the same order (a QCOMPARE failure ends the
+// calling test: check QTest::currentTestFailed()).
+void compare_probes(const Envelope& env, const Envelope& serial) {
+  QCOMPARE(env.probes.size(), serial.probes.size());
+  for (std::size_t i = 0; i < env.probes.size(); ++i) {
+    const Probe &a = serial.probes[i], &b = env.probes[i];
+    QCOMPARE(b.axis, a.axis);
+    QCOMPARE(b.value, a.value);
+    QCOMPARE(b.outcome, a.outcome);
+    QCOMPARE(b.mode, a.mode);
+    QCOMPARE(b.failure_time_s, a.failure_time_s);
+    QCOMPARE(b.steps, a.steps);
+    QCOMPARE(b.peak_ratio, a.peak_ratio);
+  }
+}
+
 QByteArray describe(const AxisLimit& a) {
   return QByteArray::fromStdString("limit " + std::to_string(a.limit) + ", " +
                                    std::to_string(a.probes) + " probes, mode " +
@@ -574,17 +590,8 @@ class EnvelopeTest : public QObject {
         if (!speculate) QCOMPARE(env->speculative, 0);
         ran_ahead += env->ran_ahead;
         ran_ahead_for_nothing += env->speculative;
-        QCOMPARE(env->probes.size(), serial->probes.size());
-        for (std::size_t i = 0; i < env->probes.size(); ++i) {
-          const Probe &a = serial->probes[i], &b = env->probes[i];
-          QCOMPARE(b.axis, a.axis);
-          QCOMPARE(b.value, a.value);
-          QCOMPARE(b.outcome, a.outcome);
-          QCOMPARE(b.mode, a.mode);
-          QCOMPARE(b.failure_time_s, a.failure_time_s);
-          QCOMPARE(b.steps, a.steps);
-          QCOMPARE(b.peak_ratio, a.peak_ratio);
-        }
+        compare_probes(*env, *serial);
+        if (QTest::currentTestFailed()) return;
         QCOMPARE(env->result.max_accel_mps2, serial->result.max_accel_mps2);
         QCOMPARE(env->result.max_decel_mps2, serial->result.max_decel_mps2);
         QCOMPARE(env->result.max_lateral_g, serial->result.max_lateral_g);
@@ -727,15 +734,8 @@ class EnvelopeTest : public QObject {
       side_by_side.speculate_after_ms = 0.0;
       auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side, creep);
       QVERIFY(env.ok());
-      QCOMPARE(env->probes.size(), serial->probes.size());
-      for (std::size_t i = 0; i < env->probes.size(); ++i) {
-        const Probe &a = serial->probes[i], &b = env->probes[i];
-        QCOMPARE(b.axis, a.axis);
-        QCOMPARE(b.value, a.value);
-        QCOMPARE(b.outcome, a.outcome);
-        QCOMPARE(b.steps, a.steps);
-        QCOMPARE(b.peak_ratio, a.peak_ratio);
-      }
+      compare_probes(*env, *serial);
+      if (QTest::currentTestFailed()) return;
       QCOMPARE(env->accel.limit, serial->accel.limit);
       QCOMPARE(env->decel.limit, serial->decel.limit);
       QCOMPARE(env->decel.mode, serial->decel.mode);
