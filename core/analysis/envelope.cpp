@@ -672,11 +672,6 @@ void continue_with(AxisOutcome& into, const AxisOutcome& next) {
   into.error = next.error;
 }
 
-// `a`, the outcome of the axis searched as `t` (its whole range, its seed, its turn), checked below
-// the pallet's slip onset on its belt (search_envelope): a limit above 0.98 of the onset
-// (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
-// the most the pallet can pass on) stands if the load holds there; where it fails there, the axis
-// is searched below it, on what the first search learnt. `run` runs a search.
 // Where the axis searched as `t` is checked below its pallet's slip onset (0.98 of it, above the
 // axis's floor), or nullopt.
 std::optional<double> belt_check(const AxisTask& t) {
@@ -693,6 +688,11 @@ AxisOutcome probe_at(const AxisTask& t, double x, const Run& run) {
   return run(at);
 }
 
+// `a`, the outcome of the axis searched as `t` (its whole range, its seed, its turn), checked below
+// the pallet's slip onset on its belt (search_envelope): a limit above 0.98 of the onset
+// (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
+// the most the pallet can pass on) stands if the load holds there; where it fails there, the axis
+// is searched below it, on what the first search learnt. `run` runs a search.
 template <typename Run>
 AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& run) {
   const std::optional<double> checked_at = belt_check(t);
@@ -1070,14 +1070,14 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       // An unstable start-up fails the envelope: no stop is searched for it.
       mine = !stop.taken && outcomes[i].limit.has_value();
       stop.taken = stop.taken || mine;
-      stop.start_up_done = true;
     }
-    stop.changed.notify_all();
     if (!mine) return;
+    stop.changed.notify_all();  // no thread waits for the stop now
     outcomes[1] = stop_after_slip(outcomes[i], simulator, rest);
     tell(Axis::decel, outcomes[1]);
   };
-  // A start-up that threw is done too: no thread may wait for it.
+  // After the start-up's thread is through with it (its stop searched, or the start-up unstable
+  // or thrown), no thread may wait for the stop.
   auto start_up_ended = [&](std::size_t i) {
     if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
     {
