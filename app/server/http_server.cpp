@@ -145,26 +145,24 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
   // A body is read here, not by cpp-httplib: 0.11 holds a body to set_payload_max_length only
   // when it comes with a Content-Length, and reads a chunked one whole, however large (a 60 MB
   // chunked upload was read and parsed). A multipart body goes through cpp-httplib's parser and is
-  // dropped: the service takes JSON.
+  // dropped: the service takes JSON. Past the limit a body is read on and dropped, up to four times
+  // the limit, so that the client, still sending, gets the 413 rather than a closed connection.
   auto with_body = [handle, max_body](const httplib::Request& req, httplib::Response& res,
                                       const httplib::ContentReader& read) {
     std::string body;
     std::size_t seen = 0;
-    auto within = [&](std::size_t n) {
+    auto keep = [&](const char* data, std::size_t n) {
       seen += n;
-      return seen <= max_body;
+      if (seen <= max_body && data != nullptr) body.append(data, n);
+      return seen <= 4 * max_body;
     };
     const bool read_all = req.is_multipart_form_data()
                               ? read([](const httplib::MultipartFormData&) { return true; },
-                                     [&](const char*, std::size_t n) { return within(n); })
-                              : read([&](const char* data, std::size_t n) {
-                                  if (!within(n)) return false;
-                                  body.append(data, n);
-                                  return true;
-                                });
-    if (!read_all) {
+                                     [&](const char*, std::size_t n) { return keep(nullptr, n); })
+                              : read(keep);
+    if (!read_all || seen > max_body) {
       res.status = seen > max_body || res.status == 413 ? 413 : 400;
-      res.set_header("Connection", "close");  // what is left of the body is not read
+      if (!read_all) res.set_header("Connection", "close");  // the rest of it is not read
       res.set_content(error_body(req, res.status, max_body), "application/json");
       return;
     }
