@@ -257,6 +257,8 @@ void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point st
 
 namespace {
 
+class Lookahead;
+
 // One axis's search, independent of the others: what it found, the probes it ran, and why it
 // stopped if a probe was unstable or the batched probes could not run.
 struct AxisTask {
@@ -283,6 +285,13 @@ struct AxisTask {
   /// items can move may fail below it and hold above it (search_envelope): a limit above it is
   /// checked just below it.
   double belt_onset = 0.0;
+  /// The probe that follows this search at its limit (a left turn's limit, probed in a right
+  /// turn), as `follow_up_profile` says: run ahead on a spare core beside the search's last probe
+  /// (the one whose outcome ends the search), into `follow_up`.
+  Lookahead* follow_up = nullptr;
+  std::function<ConveyorProfile(double)> follow_up_profile = {};
+  /// Probes run for this search before it asked (another search's follow_up): taken, not run.
+  Lookahead* ran_before = nullptr;
 };
 
 struct AxisOutcome {
@@ -385,41 +394,38 @@ class Lookahead {
     ++used_;
     return r;
   }
-  // Before the path's probe at x: on spare cores, start the probes `next` names for each outcome
-  // of x (failed first).
-  void ahead(double x, const std::function<std::optional<double>(double, bool)>& next,
-             const std::function<ConveyorProfile(double)>& profile) {
-    for (const bool failed : {true, false}) {
-      if (cores_.total - cores_.busy.load() <= 0) return;
-      const std::optional<double> y = next(x, failed);
-      if (!y || *y == x || done_.contains(*y) || flying_.contains(*y)) continue;
-      std::unique_ptr<Simulator> sim = simulator();
-      if (!sim) return;
-      auto f = std::make_unique<Flight>();
-      f->x = x;
-      f->failed = failed;
-      f->sim = std::move(sim);
-      Flight* raw = f.get();
-      SimOptions o = o_;
-      o.abandon = &raw->abandon;
-      const ConveyorProfile pr = profile(*y);
-      ++cores_.busy;
-      try {
-        raw->thread = std::thread([this, raw, o, pr] {
-          try {
-            raw->result = raw->sim->run(rest_, pr, o);
-          } catch (...) {  // the path runs it again if it needs it
-            raw->result.reset();
-          }
-          --cores_.busy;
-        });
-      } catch (const std::system_error&) {  // no thread to be had: the path runs it
+  // Starts the probe at y (its profile `p`) on a spare core, beside the path's probe at x, for x
+  // ending `failed`; false when no core or no mjData is to be had. A probe at y already run or
+  // running is not started again.
+  bool start(double x, bool failed, double y, const ConveyorProfile& p) {
+    if (cores_.total - cores_.busy.load() <= 0) return false;
+    if (done_.contains(y) || flying_.contains(y)) return true;
+    std::unique_ptr<Simulator> sim = simulator();
+    if (!sim) return false;
+    auto f = std::make_unique<Flight>();
+    f->x = x;
+    f->failed = failed;
+    f->sim = std::move(sim);
+    Flight* raw = f.get();
+    SimOptions o = o_;
+    o.abandon = &raw->abandon;
+    ++cores_.busy;
+    try {
+      raw->thread = std::thread([this, raw, o, p] {
+        try {
+          raw->result = raw->sim->run(rest_, p, o);
+        } catch (...) {  // the path runs it again if it needs it
+          raw->result.reset();
+        }
         --cores_.busy;
-        idle_.push_back(std::move(f->sim));
-        return;
-      }
-      flying_.emplace(*y, std::move(f));
+      });
+    } catch (const std::system_error&) {  // no thread to be had: the path runs it
+      --cores_.busy;
+      idle_.push_back(std::move(f->sim));
+      return false;
     }
+    flying_.emplace(y, std::move(f));
+    return true;
   }
   // The path's probe at x ended (failed or not): what ran ahead for the other outcome is dropped.
   void decided(double x, bool failed) {
@@ -545,31 +551,52 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (!implying || y < implied_from) return std::nullopt;
     return verdict_at(y, *implying);
   };
-  // The probe the search takes after x if x ends `failed`: the search run again without
-  // simulating, on what is known, up to the first probe it does not know.
-  auto next_after = [&](double x, bool failed) -> std::optional<double> {
-    std::optional<double> miss;
+  // The search run again without simulating, on what is known and x ending `failed`: the first
+  // probe it does not know (`next`), or, where it knows every probe it takes, its limit.
+  struct DryRun {
+    std::optional<double> next;
+    std::optional<AxisLimit> limit;
+  };
+  auto dry_run = [&](double x, bool failed) {
+    DryRun dry;
     auto oracle = [&](double y) -> std::optional<ProbeVerdict> {
       if (y == x) return ProbeVerdict{failed, FailureMode::no_failure, 1.0};
       if (auto it = known.find(y); it != known.end()) return it->second;
       if (auto v = implied(y)) return v;
-      miss = y;
+      dry.next = y;
       return std::nullopt;
     };
-    AxisSearch(t.lo, t.hi, t.precision, oracle, seeded, t.vouch).run(t.seed);
-    return miss;
+    auto limit = AxisSearch(t.lo, t.hi, t.precision, oracle, seeded, t.vouch).run(t.seed);
+    if (!dry.next) dry.limit = limit;
+    return dry;
+  };
+  // Before the path's probe at x: on spare cores, the probe the search takes next on each outcome
+  // of x (failed first), or, where that outcome ends the search with a limit, the probe that
+  // follows the search there (AxisTask::follow_up).
+  auto run_ahead = [&](double x) {
+    for (const bool failed : {true, false}) {
+      const DryRun dry = dry_run(x, failed);
+      if (dry.next) {
+        if (*dry.next != x && !ahead->start(x, failed, *dry.next, t.profile(*dry.next))) return;
+      } else if (t.follow_up && dry.limit && !dry.limit->at_floor) {
+        const double y = dry.limit->at_ceiling ? t.hi : dry.limit->limit;
+        if (!t.follow_up->start(x, failed, y, t.follow_up_profile(y))) return;
+      }
+    }
   };
   auto probe = [&](double x) -> std::optional<ProbeVerdict> {
     std::optional<SimResult> ran = ahead ? ahead->take(x) : std::nullopt;
+    if (!ran && t.ran_before) ran = t.ran_before->take(x);
     if (!ran) {
       // Only where a probe costs more than a thread and an mjData for it: the last probe of any
       // axis tells (SearchConfig::speculate_after_ms).
       if (ahead && cores->last_probe_ms.load() >= speculate_after_ms) {
-        ahead->ahead(x, next_after, t.profile);
+        run_ahead(x);
       }
       ran = simulator.run(rest, t.profile(x), o);
       if (ahead) {
         ahead->decided(x, ran->outcome == Outcome::failed);
+        if (t.follow_up) t.follow_up->decided(x, ran->outcome == Outcome::failed);
         cores->last_probe_ms = ran->wall_ms;
       }
     }
@@ -685,6 +712,7 @@ template <typename Run>
 AxisOutcome probe_at(const AxisTask& t, double x, const Run& run) {
   AxisTask at = t;
   at.lo = at.hi = at.seed = x;
+  at.follow_up = nullptr;  // a check's limit is not the axis's
   return run(at);
 }
 
@@ -986,16 +1014,40 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   }
   auto run_task = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
     const auto run = searcher(simulator, rest);
+    const bool turns = tasks[i].axis == Axis::lateral && both_turns;
+    auto right_profile = [&](double g) {
+      return lateral_probe_profile(g, line, s, CurveTurn::right);
+    };
+    // The right turn's first probe, at the left limit, runs on a spare core beside the left
+    // search's last probe.
+    std::optional<Lookahead> follow_up;
+    AxisTask left = tasks[i];
+    if (turns && ahead != nullptr) {
+      follow_up.emplace(*ahead, simulator.scene(), budget_bytes(simulator), rest, o);
+      left.follow_up = &*follow_up;
+      left.follow_up_profile = right_profile;
+    }
+    // What ran ahead for the right turn, counted with the left turn's probes run ahead.
+    auto counted = [&](AxisOutcome& out) -> AxisOutcome& {
+      if (follow_up) {
+        follow_up->drain();
+        out.ran_ahead += follow_up->started();
+        out.speculative += follow_up->wasted();
+        follow_up.reset();
+      }
+      return out;
+    };
     AxisOutcome a =
-        checked_below_belt_onset(tasks[i], s.seed_with_closed_form, run,
+        checked_below_belt_onset(left, s.seed_with_closed_form, run,
                                  tasks[i].axis == Axis::accel ? on_start_up_check : nullptr);
-    if (tasks[i].axis != Axis::lateral || !both_turns || !a.limit || a.limit->at_floor) return a;
+    if (!turns || !a.limit || a.limit->at_floor) return counted(a);
     // First the left limit itself; where the right turn fails there, a search below it from the
     // closed-form seed, as the left one started (the right turn's verdict at the top known).
     AxisTask right = tasks[i];
     right.hi = a.limit->at_ceiling ? right.hi : a.limit->limit;
     right.lo = right.seed = right.hi;
-    right.profile = [&](double g) { return lateral_probe_profile(g, line, s, CurveTurn::right); };
+    right.profile = right_profile;
+    if (follow_up) right.ran_before = &*follow_up;
     auto search_right = [&](const AxisTask& task) {
       AxisOutcome r = run(task);
       for (Probe& p : r.probes) p.turn = CurveTurn::right;
@@ -1012,6 +1064,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     AxisTask right_axis = tasks[i];
     right_axis.profile = right.profile;
     b = guard_below_belt_onset(right_axis, std::move(b), search_right);
+    counted(b);
     if (!b.limit) {  // unstable, or an error: the axis has no limit
       continue_with(a, b);
       return a;

@@ -121,6 +121,7 @@ void compare_probes(const Envelope& env, const Envelope& serial) {
     QCOMPARE(b.failure_time_s, a.failure_time_s);
     QCOMPARE(b.steps, a.steps);
     QCOMPARE(b.peak_ratio, a.peak_ratio);
+    QCOMPARE(b.turn, a.turn);
   }
 }
 
@@ -569,10 +570,15 @@ class EnvelopeTest : public QObject {
 
   // The axes searched side by side (axis_threads), with or without probes run ahead on spare
   // cores (SearchConfig::speculate), run bitwise the probes of one axis after another, reported in
-  // axis order: a sliding two-carton stack and a tall carton that tips.
+  // axis order: a sliding two-carton stack and a tall carton that tips, and the stack off the
+  // centre line, whose curve is searched in both turns (the right turn's first probe may run
+  // beside the left search's last one: AxisTask::follow_up).
   void axisThreadsRunTheSameProbes() {
     int ran_ahead = 0, ran_ahead_for_nothing = 0;
-    for (const auto& [config, mu] : slider_and_tipper()) {
+    auto loads = slider_and_tipper();
+    loads.push_back(
+        {test::pallet({test::carton(0, 0.2, 0.15), test::carton(0, 0.2, 0.35)}), {1.0, 0.3, 0.4}});
+    for (const auto& [config, mu] : loads) {
       auto s = settle(config, mu);
       SearchConfig one = search_;
       one.axis_threads = 1;
