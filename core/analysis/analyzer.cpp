@@ -380,7 +380,8 @@ Result<Solve> Analyzer::solve(const PalletConfig& config, const ConveyorProfile&
   }
   SimOptions o = options_.sim;
   o.record_trace = true;
-  o.energy_stop = false;  // the replay shows a slide to its end (the verdict is the same)
+  o.energy_stop = false;          // the replay shows a slide to its end (the verdict is the same)
+  o.project_pallet_slip = false;  // and a slip crossing its threshold (the wreck follows from it)
   Solve solve;
   solve.sim = p.simulator->run(p.rest, profile, o);  // the verdict, as a search sees it
   if (solve.sim.outcome == Outcome::failed) follow_wreck(config, p, profile, o, solve.sim);

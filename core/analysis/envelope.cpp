@@ -331,6 +331,7 @@ Probe make_probe(Axis axis, double x, const SimResult& r, const PalletConfig& co
           r.steps - r.steps_skipped,
           r.sim_time_s,
           r.peak_ratio};
+  p.projected = r.failure && r.failure->projected;
   if (r.failure && r.failure->items.size() == 1) {
     const auto item = static_cast<std::size_t>(r.failure->items[0]);
     p.item_tipped =

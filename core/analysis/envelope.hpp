@@ -109,6 +109,7 @@ struct Probe {
   bool confirmation = false;  ///< the run that confirms a limit (SearchConfig::confirm_limits)
   CurveTurn turn = CurveTurn::left;  ///< lateral: the way the curve turned
   bool item_tipped = false;          ///< a top_item_slide whose item tipped (detectors.hpp)
+  bool projected = false;  ///< a pallet slip decided before its threshold (FailureEvent::projected)
 };
 
 struct AxisLimit {

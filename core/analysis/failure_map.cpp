@@ -125,6 +125,7 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   SimOptions o = sim_options;
   o.record_trace = false;
   o.fail_fast = true;
+  o.project_pallet_slip = false;  // each cell tells when its load failed, not when it was certain
   const int ns = int(map.speeds_mps.size()), na = int(map.accels_mps2.size());
   std::vector<Job> jobs;
   jobs.reserve(std::size_t(ns * na + 3 * ns));

@@ -16,6 +16,7 @@ AnalyzerOptions reference_search_options() {
   o.full_model_solref_s.reset();
   o.sim.early_stop = false;
   o.sim.skip_comoving = false;
+  o.sim.project_pallet_slip = false;
   return o;
 }
 

@@ -83,6 +83,7 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"wall_ms", p.wall_ms}}));
     if (p.axis == Axis::lateral) probe["turn"] = to_string(p.turn);
     if (p.mode == FailureMode::top_item_slide) probe["item_tipped"] = p.item_tipped;
+    if (p.projected) probe["projected"] = true;
   }
   return out;
 }

@@ -128,7 +128,8 @@ AnalyzerOptions reference_options() {
   o.scene.tolerance = 1e-12;
   o.search = fine_search(o.search);
   o.search.seed_with_closed_form = false;
-  o.sim.skip_creeping = false;  // every step of a creeping load is stepped
+  o.sim.skip_creeping = false;        // every step of a creeping load is stepped
+  o.sim.project_pallet_slip = false;  // a slip fails where it crosses its threshold
   o.search.parallel_probes = 1;
   o.search.derive_axes = false;  // the judge probes every axis
   return o;
@@ -151,6 +152,7 @@ AnalyzerOptions reference_equivalent_options() {
   o.search.axis_threads = 1;  // one probe after another, as the reference system searched
   o.search.derive_axes = false;
   o.sim.early_stop = false;
+  o.sim.project_pallet_slip = false;
   return o;
 }
 
@@ -298,6 +300,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
+  if (o.sim.fail_fast && o.sim.project_pallet_slip) j["project_pallet_slip"] = true;
   if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
   if (s.solver_kinetic_friction) j["solver_kinetic_friction"] = true;
   return fingerprint_json(j);

@@ -32,6 +32,9 @@ struct FailureEvent {
   /// top_item_slide: how far the item had turned out of level relative to the pallet since rest
   /// (deg), which tells a carton that tipped from one that slid flat (item_tipped).
   double item_tilt_deg = 0.0;
+  /// A pallet slip decided before it crossed its threshold, at `time_s`, when the slide could no
+  /// longer stop short of it (SimOptions::project_pallet_slip); `value` is then the threshold.
+  bool projected = false;
 
   bool operator==(const FailureEvent&) const = default;
 };

@@ -107,8 +107,9 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   // after the last breakpoint. A run that ends with the belt still changing speed (its profile's
   // motion goes on past duration_s) has no such phase: it is stepped to its end.
   const double after = last_breakpoint_ + dt_, end = profile_.duration_s;
-  stops_early_ = o_.early_stop && profile_.velocity_at(after) == profile_.velocity_at(end) &&
-                 profile_.lateral_velocity_at(after) == profile_.lateral_velocity_at(end);
+  steady_after_last_ = profile_.velocity_at(after) == profile_.velocity_at(end) &&
+                       profile_.lateral_velocity_at(after) == profile_.lateral_velocity_at(end);
+  stops_early_ = o_.early_stop && steady_after_last_;
   if (profile_.shape == ProfileShape::curve) turning_.emplace(*m, l);
   belt_x0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_x_qpos)];
   belt_y0_ = rest.state.qpos[static_cast<std::size_t>(l.belt_y_qpos)];
@@ -138,6 +139,7 @@ ProbeRun::ProbeRun(const Scene& scene, const RestState& rest, const ConveyorProf
   breakpoints_ = breakpoints;
   dwell_needed_ = std::max(1, static_cast<int>(std::lround(o_.skip_dwell_s / dt_)));
   creep_needed_ = std::max(1, static_cast<int>(std::lround(kSteadyCreepWindowS / dt_)));
+  project_needed_ = std::max(2, static_cast<int>(std::lround(kProjectWindowS / dt_)));
   if (n_steps_ <= 0) done_ = true;  // finish() gives the final check
 }
 
@@ -206,6 +208,11 @@ int ProbeRun::plan_skip() const {
   if (n < std::max(2, dwell_needed_)) return 0;
   // The command must be affine in time over the whole jump (the step after it included): an
   // EUMOS rise is a phase, but its velocity is quadratic.
+  return command_affine(n) ? n : 0;
+}
+
+bool ProbeRun::command_affine(int n) const {
+  if (n <= 0) return false;
   auto affine = [&](auto&& v) {
     const double v0 = v(k_ * dt_), v1 = v((k_ + n) * dt_);
     for (int j : {n / 4, n / 2, (3 * n) / 4, n + 1}) {
@@ -214,9 +221,77 @@ int ProbeRun::plan_skip() const {
     }
     return true;
   };
-  if (!affine([&](double t) { return profile_.velocity_at(t); })) return 0;
-  if (!affine([&](double t) { return profile_.lateral_velocity_at(t); })) return 0;
-  return n;
+  return affine([&](double t) { return profile_.velocity_at(t); }) &&
+         affine([&](double t) { return profile_.lateral_velocity_at(t); });
+}
+
+std::optional<double> ProbeRun::slip_certain(const mjModel& m, const mjData& d, double t,
+                                             double slip) {
+  const SceneLayout& l = scene_->layout;
+  auto not_now = [&]() -> std::optional<double> {
+    slip_window_.clear();
+    return std::nullopt;
+  };
+  // Only the belt's pair slides: the load rides its pallet, which friction alone pulls along.
+  if (phase_ >= breakpoints_.size() || !only_pair_sliding(&m, &d, kBeltPalletPair)) {
+    return not_now();
+  }
+  // The demand holds to the phase's end: the belt's frame accelerates (and turns) at a constant
+  // rate (checked once a phase, from a step in it to its end).
+  const double t_end = breakpoints_[phase_];
+  if (affine_phase_ != int(phase_)) {
+    const int last = static_cast<int>(std::floor(t_end / dt_ + 1e-9)) - 1;
+    if (!command_affine(last - k_)) return not_now();
+    affine_phase_ = int(phase_);
+  }
+  // The demand at the load's centre of mass (pallet and items): opposite to the belt's
+  // acceleration, and a curve's turning outwards from its axis (turning_frame.hpp), which carries
+  // the whole load's mass at its centre.
+  double mass = 0.0, com[2] = {0.0, 0.0};
+  for (int b = 1; b < m.nbody; ++b) {
+    if (b == l.belt_body) continue;
+    mass += m.body_mass[b];
+    com[0] += m.body_mass[b] * d.xipos[3 * b];
+    com[1] += m.body_mass[b] * d.xipos[3 * b + 1];
+  }
+  if (!(mass > 0.0)) return not_now();
+  double field[2] = {
+      -(profile_.velocity_at(t) - profile_.velocity_at(t - dt_)) / dt_,
+      -(profile_.lateral_velocity_at(t) - profile_.lateral_velocity_at(t - dt_)) / dt_};
+  if (turning_) {
+    const double omega = profile_.yaw_rate_at(t - dt_);
+    const mjtNum* belt = d.xpos + 3 * l.belt_body;
+    field[0] += omega * omega * (com[0] / mass - (belt[0] - belt_x0_));
+    field[1] += omega * omega * (com[1] / mass - (belt[1] - belt_y0_));
+  }
+  const FrictionValue& pair = scene_->friction.belt_pallet;
+  const double friction = kProjectFrictionMargin * std::min(pair.mu_s, pair.mu_d) * kGravity;
+  const double excess = std::hypot(field[0], field[1]) - friction;
+  if (!(excess > 0.0)) return not_now();
+  // The slip has sped up over the window.
+  slip_window_.push_back(slip);
+  const auto n = static_cast<std::size_t>(project_needed_);
+  if (slip_window_.size() > n + 1) slip_window_.erase(slip_window_.begin());
+  if (slip_window_.size() <= n) return std::nullopt;
+  const std::size_t half = n / 2;
+  const double early = (slip_window_[half] - slip_window_[0]) / (double(half) * dt_);
+  const double late = (slip_window_[n] - slip_window_[n - half]) / (double(half) * dt_);
+  if (!(early > 0.0 && late >= early)) return std::nullopt;
+  // At no more than `friction` against `excess` to the phase's end, then (on a steady belt) no
+  // more than `friction` against nothing while it coasts.
+  const double left = o_.thresholds.pallet_slip_m - slip;
+  const double tau = std::max(0.0, t_end - t);
+  const double reach = late * tau + 0.5 * excess * tau * tau;
+  if (reach >= left) {  // within the phase
+    return t + (std::sqrt(late * late + 2.0 * excess * left) - late) / excess;
+  }
+  const double v_end = late + excess * tau;
+  const double coast = left - reach;
+  if (!(steady_after_last_ && t_end >= last_breakpoint_) ||
+      v_end * v_end < 2.0 * friction * coast) {
+    return std::nullopt;
+  }
+  return t_end + (v_end - std::sqrt(v_end * v_end - 2.0 * friction * coast)) / friction;
 }
 
 bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_vx,
@@ -440,6 +515,12 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
   read_item_poses(l, d, items_);
   if (o_.record_trace) r_.trace.push(t_next, belt, pallet, items_);
   if (k == 1) pe0_ = potential_energy(m, d);
+  // The profile's phase this step ends in (skipping stays within one; the early stop comes after
+  // the last breakpoint).
+  std::size_t phase = 0;
+  while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
+  if (phase != phase_) dwell_steps_ = creep_steps_ = 0;
+  phase_ = phase;
   DetectorReadings readings;
   if (!r_.failure) {
     if (auto event = detect(t_next, belt, pallet, readings)) {
@@ -449,13 +530,17 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
         finish(m, d);
         return false;
       }
+    } else if (const auto crossing = o_.fail_fast && o_.project_pallet_slip
+                                         ? slip_certain(m, d, t_next, readings.pallet_slip_m)
+                                         : std::nullopt) {
+      r_.failure = FailureEvent{
+          FailureMode::pallet_slip, *crossing, o_.thresholds.pallet_slip_m, {}, 0.0, true};
+      r_.outcome = Outcome::failed;
+      r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
+      finish(m, d);
+      return false;
     }
   }
-  // Co-moving: within the current phase for skipping, after the last breakpoint for the early stop.
-  std::size_t phase = 0;
-  while (phase < breakpoints_.size() && breakpoints_[phase] < t_next - 1e-9) ++phase;
-  if (phase != phase_) dwell_steps_ = creep_steps_ = 0;
-  phase_ = phase;
   const bool want_stop = stops_early_ && !r_.failure && t_next >= last_breakpoint_;
   const bool want_skip = o_.skip_comoving && !r_.failure && k < n_steps_;
   bool comoving = false;

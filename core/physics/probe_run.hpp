@@ -73,6 +73,13 @@ inline constexpr double kCreepJumpMaxRatio = 0.5;
 inline constexpr double kCreepDriftM = 5e-4;
 inline constexpr double kCreepDriftRad = 1e-3;
 
+/// Deciding a pallet slip before its threshold (SimOptions::project_pallet_slip): the pair's
+/// kinetic friction is taken this much stronger than mu_d g (a rocking load swings the belt's
+/// normal force by a few per cent), and the slip must have sped up over the last kProjectWindowS
+/// (its second half's mean rate at least its first half's).
+inline constexpr double kProjectFrictionMargin = 1.05;
+inline constexpr double kProjectWindowS = 0.05;
+
 /// One probe run. Construct, load the start state (load_rest_state with initial_speed()), then
 /// per step: before_step(data), pb::step (step.hpp), after_step(model, data) until it returns
 /// false. An engine error raised by the step goes to engine_error(). Not thread-safe; one per
@@ -122,6 +129,13 @@ class ProbeRun {
   // and says whether the window's drift (the change from its first half's means) would move a
   // body by less than kCreepDriftM (and turn it less than kCreepDriftRad) over `span`.
   bool creep_holds(double span);
+  // Whether the belt's command is affine in time from step k_ over the next n + 1 steps (a phase
+  // in which the belt's frame accelerates, and turns, at a constant rate).
+  bool command_affine(int n) const;
+  // Where the pallet's slip on its belt, `slip` (m) at time t, can no longer stop short of its
+  // threshold (SimOptions::project_pallet_slip): the latest time it crosses it, by the slowest
+  // slide the friction allows; nullopt otherwise. Keeps the window of slips this needs.
+  std::optional<double> slip_certain(const mjModel& m, const mjData& d, double t, double slip);
   // The most the creep (creep_v_) can add to any detector's reading over its threshold in `span`.
   double creep_reach(double span) const;
   // Moves `p`, the pose of body `body` (0 the pallet, then the items), by the pending jump: the
@@ -166,6 +180,13 @@ class ProbeRun {
   std::vector<double> creep_sums_;  ///< 12 a body: the window's first half's sums, its second's
   int creep_needed_ = 1, creep_steps_ = 0;
   bool skip_creep_ = false;
+  // Deciding a pallet slip early: the slips of the steps in a row that qualified, the steps the
+  // window needs, whether the belt runs steady after the last breakpoint, and the phase whose
+  // command was found affine to its end (-1: none).
+  std::vector<double> slip_window_;
+  int project_needed_ = 1;
+  bool steady_after_last_ = false;
+  int affine_phase_ = -1;
   bool done_ = false;
   std::vector<Pose> items_;
   std::optional<TurningFrame> turning_;  ///< a curve's: the belt's frame turns with it

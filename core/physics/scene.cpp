@@ -151,7 +151,7 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   if (!p.merged && o.rigid_carrier.size() == n && wrap.stiffness_n_per_m <= 0.0) {
     p.rigid.carrier = o.rigid_carrier;
   }
-  p.pairs.push_back({"belt", "pallet", &friction.belt_pallet, true});
+  p.pairs.push_back({"belt", "pallet", &friction.belt_pallet, true});  // kBeltPalletPair
   for (std::size_t i = 0; i < n; ++i) {
     if (std::abs(p.boxes[i].z0 - deck) <= kTouch && p.rigid.root(int(i)) != kOnPallet) {
       p.pairs.push_back({"pallet", "item_" + std::to_string(i), &friction.item_pallet, true});

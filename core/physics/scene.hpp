@@ -124,6 +124,10 @@ struct SceneLayout {
   int welds = 0;
 };
 
+/// The scene's first contact pair is the belt and the pallet (MuJoCo numbers pairs in the order
+/// the MJCF lists them).
+inline constexpr int kBeltPalletPair = 0;
+
 /// What it takes to move the load away from rest, from the quasi-static onsets (quasi_static.hpp)
 /// times the masses they hold: a slip dissipates m mu_d g per metre it slides (kinetic friction,
 /// step.hpp; no more than its onset's mu_s g), a tip of onset g (b/2) / h lifts the centre of mass

@@ -104,6 +104,14 @@ struct SimOptions {
   /// body on at that relative velocity as well as with the belt (the creep's travel is kept, so
   /// the detectors see it at the jump's end).
   bool skip_creeping = true;
+  /// With fail_fast: a pallet slip is decided once its slide can no longer stop short of the
+  /// threshold (probe_run.cpp: ProbeRun::slip_certain; FailureEvent::projected). Only the belt's
+  /// pair has broken loose, its load riding the pallet; the demand at the load's centre of mass
+  /// (the belt's acceleration, and a curve's turning) beats kProjectFrictionMargin x the pair's
+  /// kinetic friction and holds, affine in time, to the phase's end; and the slip has sped up over
+  /// the last kProjectWindowS. Then the slide at that margin reaches the threshold (with what it
+  /// coasts after the phase, where the belt then runs steady). Off in the reference configuration.
+  bool project_pallet_slip = true;
   /// Warm-start each step's constraint solve from the line through the last two steps'
   /// accelerations instead of the last one's. The solve converges to the same answer up to its
   /// tolerance, so this is the same probe along another numerical path: where the load's fate

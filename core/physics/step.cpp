@@ -100,6 +100,15 @@ bool any_pair_sliding(const mjModel* m, const mjData* d) {
   return std::any_of(d->userdata, d->userdata + n, [](mjtNum v) { return v != 0.0; });
 }
 
+bool only_pair_sliding(const mjModel* m, const mjData* d, int pair) {
+  const int n = m->npair;
+  if (pair < 0 || pair >= n || m->nuserdata < kFrictionStateSlots * n) return false;
+  for (int p = 0; p < n; ++p) {
+    if ((d->userdata[p] != 0.0) != (p == pair)) return false;
+  }
+  return true;
+}
+
 namespace {
 
 // After the constraint solve: how much of its friction cone each pair used, over all its contacts

@@ -68,6 +68,9 @@ inline constexpr double kLevelContactNz = 0.7;
 /// True while a contact pair of the scene has broken loose (it slides at its kinetic coefficient
 /// until it sticks again); false for a model without the pairs' slots.
 bool any_pair_sliding(const mjModel* m, const mjData* d);
+/// True while contact pair `pair` (the scene's order: kBeltPalletPair first) has broken loose and
+/// no other pair has.
+bool only_pair_sliding(const mjModel* m, const mjData* d, int pair);
 
 /// mj_step for the Euler integrator (the only one the scenes use; any other is stepped by
 /// mj_step itself), with Coulomb friction per contact pair: while a pair holds, its contacts are

@@ -398,9 +398,15 @@ class PhysicsCliTest : public QObject {
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
       // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, confirmation
-      // (false: --confirm-limits not given), wall_ms; and the turn of a curve's probe
+      // (false: --confirm-limits not given), wall_ms; the turn of a curve's probe; and
+      // projected: true where a pallet slip was decided before its threshold
       const bool curve = str(p, "axis") == QStringLiteral("lateral");
-      QCOMPARE(p.size(), curve ? 11 : 10);
+      const bool projected = p.contains(QStringLiteral("projected"));
+      QCOMPARE(p.size(), (curve ? 11 : 10) + (projected ? 1 : 0));
+      if (projected) {
+        QCOMPARE(p.value(QStringLiteral("projected")), QJsonValue(true));
+        QCOMPARE(str(p, "mode"), QStringLiteral("pallet_slip"));
+      }
       if (curve)
         QVERIFY(str(p, "turn") == QStringLiteral("left") ||
                 str(p, "turn") == QStringLiteral("right"));

@@ -384,6 +384,60 @@ class ProbeRunTest : public QObject {
     QVERIFY2(s.reason.find("belt") != std::string::npos, s.reason.c_str());
   }
 
+  // SimOptions::project_pallet_slip: a pallet slip is decided once its slide cannot stop short of
+  // the threshold. A carton the pallet holds (mu 1.0) on a belt of mu_s 0.3, mu_d 0.225: a ramp
+  // to 2 m/s slips the 0.3 m threshold from about 3.3 m/s^2 (v^2/2 (1/(mu_d g) - 1/a)), a curve
+  // above its 0.3 g onset slides away. Across both limits every probe ends as it does stepped to
+  // its crossing (outcome and mode); a projected failure comes earlier in the run, and the time it
+  // gives is no earlier than the crossing (the slowest slide the friction allows).
+  void aSlipThatCannotStopShortIsDecidedEarly() {
+    auto scene = build_scene(test::pallet({test::carton(0.0, 0.0, 0.15)}), {},
+                             test::constant_friction({0.3, 1.0, 1.0, 0.75}));
+    QVERIFY(scene);
+    auto sim = Simulator::create(*scene.value);
+    QVERIFY(sim);
+    auto rest = sim.value->settle();
+    QVERIFY(rest);
+    std::vector<std::pair<std::string, ConveyorProfile>> profiles;
+    for (double a : {2.8, 3.2, 3.4, 3.45, 3.5, 3.55, 3.6, 4.5}) {
+      profiles.emplace_back("start-up at " + std::to_string(a), accel_probe_profile(a, {}));
+    }
+    for (double g : {0.27, 0.29, 0.3, 0.305, 0.31, 0.33, 0.4}) {
+      profiles.emplace_back("curve at " + std::to_string(g),
+                            lateral_probe_profile(g, LineDescription{}, SearchConfig{}));
+    }
+    int projected = 0;
+    bool safe = false;
+    for (const auto& [what, profile] : profiles) {
+      SimOptions on, off;
+      on.record_trace = off.record_trace = false;
+      off.project_pallet_slip = false;
+      const SimResult a = sim.value->run(*rest.value, profile, off);
+      const SimResult b = sim.value->run(*rest.value, profile, on);
+      QVERIFY2(b.outcome == a.outcome, what.c_str());
+      qInfo("%s: %s%s", what.c_str(), std::string(to_string(a.outcome)).c_str(),
+            a.failure
+                ? (" at " + std::to_string(a.failure->time_s) +
+                   (b.failure->projected ? ", projected " + std::to_string(b.failure->time_s) +
+                                               " after " + std::to_string(b.sim_time_s)
+                                         : std::string()))
+                      .c_str()
+                : "");
+      safe = safe || a.outcome == Outcome::safe;
+      if (!a.failure) continue;
+      QCOMPARE(b.failure->mode, a.failure->mode);
+      if (!b.failure->projected) continue;
+      ++projected;
+      QCOMPARE(a.failure->mode, FailureMode::pallet_slip);
+      QVERIFY2(b.sim_time_s < a.failure->time_s, what.c_str());
+      QVERIFY2(b.failure->time_s >= a.failure->time_s - 1e-9, what.c_str());
+      QCOMPARE(b.failure->value, on.thresholds.pallet_slip_m);
+    }
+    qInfo("%d of %zu probes decided before their crossing", projected, profiles.size());
+    QVERIFY(safe);
+    QVERIFY2(projected >= 4, std::to_string(projected).c_str());
+  }
+
   void relativeSpeedIsZeroAtRest() {
     auto r = rig();
     const mjModel& m = *r->scene->model;
