@@ -397,9 +397,10 @@ class Lookahead {
   }
   // Starts the probe at y (its profile `p`) on a spare core, beside the path's probe at x, for x
   // ending `failed`; false when no core or no mjData is to be had. A probe at y already run or
-  // running is not started again.
-  bool start(double x, bool failed, double y, const ConveyorProfile& p) {
-    if (cores_.total - cores_.busy.load() <= 0) return false;
+  // running is not started again. A probe the search will surely take (`needed`) starts on a busy
+  // machine too: it only runs sooner.
+  bool start(double x, bool failed, double y, const ConveyorProfile& p, bool needed = false) {
+    if (!needed && cores_.total - cores_.busy.load() <= 0) return false;
     if (done_.contains(y) || flying_.contains(y)) return true;
     std::unique_ptr<Simulator> sim = simulator();
     if (!sim) return false;
@@ -880,7 +881,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   const double along_onset = one_body ? 0.0 : belt_onset_mps2(bounds.along);
   const double across_onset =
       one_body ? 0.0 : belt_onset_mps2(in_a_curve(bounds.across, line.curve_radius_m)) / kGravity;
-  const std::vector<AxisTask> tasks{
+  std::vector<AxisTask> tasks{
       {Axis::accel,
        s.accel_min_mps2,
        s.accel_max_mps2,
@@ -977,6 +978,17 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       (across_model.simulator == along_model.simulator ? 0 : budget_bytes(*across_model.simulator));
   // Probes run ahead on spare cores, with as many more mjData as the memory budget holds.
   Cores* ahead = s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 ? &cores : nullptr;
+  // The stop of a load that slips both ways is checked below its pallet's onset whatever its
+  // start-up finds (mirrored from it, or searched from the check up or down): that probe runs from
+  // the start, beside the searches, for the stop's search to take.
+  std::optional<Lookahead> stop_check;
+  if (const std::optional<double> check = belt_check(tasks[1]);
+      slips_both_ways && ahead != nullptr && check && s.seed_with_closed_form) {
+    const ProbeModel m = model_of(Axis::decel);
+    stop_check.emplace(cores, m.simulator->scene(), budget_bytes(*m.simulator), *m.rest, o);
+    stop_check->start(*check, false, *check, tasks[1].profile(*check), true);
+    tasks[1].ran_before = &*stop_check;
+  }
   // Tells `found` of a start-up, stop or curve limit as soon as it is known.
   auto tell = [&](Axis axis, const AxisOutcome& a) {
     if (found && a.limit && axis != Axis::speed) found(axis, *a.limit);
@@ -1225,6 +1237,11 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     for (int w = 1; w < threads; ++w) pool.emplace_back(work, false);
     work(true);
     for (auto& t : pool) t.join();
+  }
+  if (stop_check) {
+    stop_check->drain();
+    outcomes[1].ran_ahead += stop_check->started();
+    outcomes[1].speculative += stop_check->wasted();
   }
   AxisOutcome& up = outcomes[0];
   AxisOutcome& down = outcomes[1];
