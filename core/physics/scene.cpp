@@ -190,6 +190,7 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   const auto free =
       static_cast<double>(std::count(p.rigid.carrier.begin(), p.rigid.carrier.end(), kFreeItem));
   const double nv = 2 + 6 + 6 * free;  // the belt's two slides, the pallet's and items' free joints
+  p.sizes.nv = static_cast<int>(nv);
   p.sizes.nstack =
       o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax + static_cast<int>(3 * nv * nv);
   return p;
@@ -198,9 +199,13 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
 }  // namespace
 
 double BufferSizes::data_bytes() const {
-  // efc_AR (njmax^2) and the stack dominate; the rest of mjData is linear in nconmax and njmax.
+  // MuJoCo 2.2.2's mjData (mjxmacro.h): per njmax^2 efc_AR and its column indices (8 + 4 bytes),
+  // per njmax x nv the Jacobian and its transpose with theirs (2 x (8 + 4)), the stack, and what is
+  // linear in nconmax and njmax. A 96-carton brick (njmax 5,584, nv 584): 452 MB, as measured
+  // (Simulator::data_bytes, 466 MB).
   const double nj = njmax;
-  return 8.0 * (nj * nj + double(nstack)) + 600.0 * nconmax + 200.0 * nj;
+  return 12.0 * nj * nj + 24.0 * nj * double(nv) + 8.0 * double(nstack) + 600.0 * nconmax +
+         200.0 * nj;
 }
 
 BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options) {

@@ -88,15 +88,19 @@ struct SceneOptions {
 /// MuJoCo 2.2's preallocated buffers of a scene.
 struct BufferSizes {
   int nconmax = 0, njmax = 0, nstack = 0;
-  /// What one mjData of them takes (its njmax x njmax efc_AR and the stack dominate), bytes.
+  int nv = 0;  ///< the model's degrees of freedom
+  /// What one mjData of them takes (its njmax x njmax efc_AR and index, and the njmax x nv
+  /// Jacobians, dominate), bytes.
   double data_bytes() const;
 };
 
 /// The most one simulation of a scene may take. MuJoCo 2.2 holds an njmax x njmax matrix per
-/// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all); the
-/// envelope runs up to four at once. 256 MB is an njmax of about 5,600: some 1,400 resting
-/// contacts, about 300 stacked cartons.
-inline constexpr double kMaxSimulationBytes = 256.0 * 1024 * 1024;
+/// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all). The
+/// envelope's searches share SearchConfig::axis_memory_bytes (640 MB), which must hold the whole
+/// model's own mjData and the reduced ones beside it. 512 MB is an njmax of about 6,000: some
+/// 1,500 resting contacts, a 96-carton brick of dairy cases (452 MB; peak resident memory of its
+/// analysis about 540 MB, `bench scale`).
+inline constexpr double kMaxSimulationBytes = 512.0 * 1024 * 1024;
 
 /// The buffers build_mjcf sizes for a pallet (no friction or engine needed).
 BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options);
