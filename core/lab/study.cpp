@@ -300,7 +300,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
-  if (o.sim.fail_fast && o.sim.project_pallet_slip) j["project_pallet_slip"] = true;
+  if (o.sim.project_pallet_slip) j["project_pallet_slip"] = true;
   if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
   if (s.solver_kinetic_friction) j["solver_kinetic_friction"] = true;
   return fingerprint_json(j);

@@ -183,9 +183,8 @@ void ProbeRun::before_step(mjData& d) {
     const double omega = profile_.yaw_rate_at(k_ * dt_);
     // The first step's positions are the rest state's (restored, not yet computed).
     if (omega != 0.0 && k_ == 0) mj_kinematics(scene_->model.get(), &d);
-    // The turning axis: the pallet's as-built centre (x = y = 0), carried by the belt.
-    const mjtNum* belt = d.xpos + 3 * l.belt_body;
-    const double axis[2] = {belt[0] - belt_x0_, belt[1] - belt_y0_};
+    double axis[2];
+    turning_axis(d, axis);
     const double belt_v[2] = {d.qvel[l.belt_x_dof], d.qvel[l.belt_y_dof]};
     const double belt_a[2] = {(command_x_ - profile_.velocity_at(k_ * dt_)) / dt_,
                               (command_y_ - profile_.lateral_velocity_at(k_ * dt_)) / dt_};
@@ -227,7 +226,6 @@ bool ProbeRun::command_affine(int n) const {
 
 std::optional<double> ProbeRun::slip_certain(const mjModel& m, const mjData& d, double t,
                                              double slip) {
-  const SceneLayout& l = scene_->layout;
   auto not_now = [&]() -> std::optional<double> {
     slip_window_.clear();
     return std::nullopt;
@@ -247,22 +245,16 @@ std::optional<double> ProbeRun::slip_certain(const mjModel& m, const mjData& d, 
   // The demand at the load's centre of mass (pallet and items): opposite to the belt's
   // acceleration, and a curve's turning outwards from its axis (turning_frame.hpp), which carries
   // the whole load's mass at its centre.
-  double mass = 0.0, com[2] = {0.0, 0.0};
-  for (int b = 1; b < m.nbody; ++b) {
-    if (b == l.belt_body) continue;
-    mass += m.body_mass[b];
-    com[0] += m.body_mass[b] * d.xipos[3 * b];
-    com[1] += m.body_mass[b] * d.xipos[3 * b + 1];
-  }
-  if (!(mass > 0.0)) return not_now();
+  const LoadMoments load = load_moments(m, d);
+  if (!(load.mass > 0.0)) return not_now();
   double field[2] = {
       -(profile_.velocity_at(t) - profile_.velocity_at(t - dt_)) / dt_,
       -(profile_.lateral_velocity_at(t) - profile_.lateral_velocity_at(t - dt_)) / dt_};
   if (turning_) {
     const double omega = profile_.yaw_rate_at(t - dt_);
-    const mjtNum* belt = d.xpos + 3 * l.belt_body;
-    field[0] += omega * omega * (com[0] / mass - (belt[0] - belt_x0_));
-    field[1] += omega * omega * (com[1] / mass - (belt[1] - belt_y0_));
+    double axis[2];
+    turning_axis(d, axis);
+    for (int c = 0; c < 2; ++c) field[c] += omega * omega * (load.moment[c] / load.mass - axis[c]);
   }
   const FrictionValue& pair = scene_->friction.belt_pallet;
   const double friction = kProjectFrictionMargin * std::min(pair.mu_s, pair.mu_d) * kGravity;
@@ -396,12 +388,24 @@ constexpr double kBarrierShare = 0.5;
 /// The aftermath of a failure lasts at least this long before a load moving with the belt ends it.
 constexpr double kMinAftermathS = 0.25;
 
-double ProbeRun::potential_energy(const mjModel& m, const mjData& d) const {
-  double pe = 0.0;
+ProbeRun::LoadMoments ProbeRun::load_moments(const mjModel& m, const mjData& d) const {
+  LoadMoments out;
   for (int b = 1; b < m.nbody; ++b) {
-    if (b != scene_->layout.belt_body) pe += m.body_mass[b] * d.xipos[3 * b + 2];
+    if (b == scene_->layout.belt_body) continue;
+    out.mass += m.body_mass[b];
+    for (int c = 0; c < 3; ++c) out.moment[c] += m.body_mass[b] * d.xipos[3 * b + c];
   }
-  return pe * kGravity;
+  return out;
+}
+
+void ProbeRun::turning_axis(const mjData& d, double axis[2]) const {
+  const mjtNum* belt = d.xpos + 3 * scene_->layout.belt_body;
+  axis[0] = belt[0] - belt_x0_;
+  axis[1] = belt[1] - belt_y0_;
+}
+
+double ProbeRun::potential_energy(const mjModel& m, const mjData& d) const {
+  return load_moments(m, d).moment[2] * kGravity;
 }
 
 bool ProbeRun::below_barrier(const mjModel& m, const mjData& d, const Trace::BeltState& belt,

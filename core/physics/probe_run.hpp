@@ -119,6 +119,14 @@ class ProbeRun {
   bool below_barrier(const mjModel& model, const mjData& data, const Trace::BeltState& belt,
                      const DetectorReadings& readings);
   double potential_energy(const mjModel& model, const mjData& data) const;
+  // The load's (pallet's and items') mass and its first moments Σ m x, Σ m y, Σ m z (world).
+  struct LoadMoments {
+    double mass = 0.0;
+    double moment[3] = {0.0, 0.0, 0.0};
+  };
+  LoadMoments load_moments(const mjModel& model, const mjData& data) const;
+  // The turning axis of a curve (TurningFrame): the pallet's as-built centre, carried by the belt.
+  void turning_axis(const mjData& data, double axis[2]) const;
   // Plans a jump from step k_ (see SimOptions::skip_comoving) once the load has been steady long
   // enough: the steps to skip, or 0.
   int plan_skip() const;

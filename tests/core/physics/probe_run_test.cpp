@@ -415,18 +415,18 @@ class ProbeRunTest : public QObject {
       const SimResult a = sim.value->run(*rest.value, profile, off);
       const SimResult b = sim.value->run(*rest.value, profile, on);
       QVERIFY2(b.outcome == a.outcome, what.c_str());
-      qInfo("%s: %s%s", what.c_str(), std::string(to_string(a.outcome)).c_str(),
-            a.failure
-                ? (" at " + std::to_string(a.failure->time_s) +
-                   (b.failure->projected ? ", projected " + std::to_string(b.failure->time_s) +
-                                               " after " + std::to_string(b.sim_time_s)
-                                         : std::string()))
-                      .c_str()
-                : "");
       safe = safe || a.outcome == Outcome::safe;
-      if (!a.failure) continue;
+      if (!a.failure) {
+        qInfo("%s: safe", what.c_str());
+        continue;
+      }
       QCOMPARE(b.failure->mode, a.failure->mode);
-      if (!b.failure->projected) continue;
+      if (!b.failure->projected) {
+        qInfo("%s: fails at %.3f s", what.c_str(), a.failure->time_s);
+        continue;
+      }
+      qInfo("%s: fails at %.3f s; decided after %.3f s, crossing by %.3f s", what.c_str(),
+            a.failure->time_s, b.sim_time_s, b.failure->time_s);
       ++projected;
       QCOMPARE(a.failure->mode, FailureMode::pallet_slip);
       QVERIFY2(b.sim_time_s < a.failure->time_s, what.c_str());
