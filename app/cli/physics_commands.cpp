@@ -20,8 +20,6 @@ namespace pb::cli {
 
 namespace {
 
-constexpr double kMaxProfileDuration = 30.0;  // validate_profile's ceiling
-
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -107,21 +105,24 @@ bool uses_accel(ProfileShape shape) {
   return shape == ProfileShape::accel_hold || shape == ProfileShape::ramp_decel;
 }
 
-// Until the belt's motion last changes, plus a second for the load to settle into it.
-double default_duration(const ConveyorProfile& profile) {
-  return std::min(kMaxProfileDuration, profile.motion_end_s() + 1.0);
-}
-
 // The flags that set a profile's fields, and the fields they set.
 constexpr std::pair<const char*, const char*> kProfileFlags[] = {
     {"speed", "target_speed_mps"},    {"accel", "accel_mps2"},      {"decel", "decel_mps2"},
     {"decel-start", "decel_start_s"}, {"radius", "curve_radius_m"}, {"angle", "curve_angle_deg"},
     {"eumos-g", "eumos_g"},           {"duration", "duration_s"}};
 
+// Whether the scenario's suggested profile is the base the flags change: there is one, and
+// --profile is absent or names its shape.
+bool based_on_suggested(const Args& args, const std::optional<ConveyorProfile>& suggested) {
+  if (!suggested) return false;
+  const auto name = args.text("profile");
+  return !name || enum_from_string<ProfileShape>(*name) == suggested->shape;
+}
+
 // The profile of the flags. A scenario's suggested profile is the base unless --profile names
 // another shape, and every flag given overrides its field (so `solve SCENARIO --speed 2` runs the
 // suggested motion at 2 m/s). Without a base --speed is required, and --accel for the shapes that
-// use it. A changed motion runs until it ends plus a second, unless --duration says otherwise.
+// use it. A changed motion runs default_duration_s, unless --duration says otherwise.
 // Ranges are checked by validate_profile, not here.
 ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfile>& suggested) {
   std::optional<ProfileShape> shape;
@@ -129,7 +130,7 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
     shape = enum_from_string<ProfileShape>(*name);
     if (!shape) throw UsageError{"solve: --profile must be " + enum_choices<ProfileShape>()};
   }
-  const bool based = suggested && (!shape || *shape == suggested->shape);
+  const bool based = based_on_suggested(args, suggested);
   ConveyorProfile p = based ? *suggested : ConveyorProfile{};
   if (shape) p.shape = *shape;
   const auto speed = args.number("speed");
@@ -162,19 +163,21 @@ ConveyorProfile profile_from(const Args& args, const std::optional<ConveyorProfi
   if (auto duration = args.number("duration")) {
     p.duration_s = *duration;
   } else if (changed) {
-    p.duration_s = based ? std::max(p.duration_s, default_duration(p)) : default_duration(p);
+    p.duration_s = based ? std::max(p.duration_s, default_duration_s(p)) : default_duration_s(p);
   }
   return p;
 }
 
-// A profile's diagnostics as its user wrote them: at the flag that set the field ("--duration")
-// where one did, else at the field of the scenario's suggested profile.
-Diagnostics at_flags(Diagnostics diagnostics, const Args& args) {
+// A profile's diagnostics as its user can change them: at the field of the scenario's suggested
+// profile where that set it, else at the flag that sets it ("--duration"), given or defaulted.
+Diagnostics at_flags(Diagnostics diagnostics, const Args& args,
+                     const std::optional<ConveyorProfile>& suggested) {
+  const bool based = based_on_suggested(args, suggested);
   for (auto& d : diagnostics) {
     for (const auto& [flag, field] : kProfileFlags) {
       if (d.pointer == std::string("/profile/") + field) {
-        d.pointer =
-            args.text(flag) ? std::string("--") + flag : "/suggested_profile/" + std::string(field);
+        d.pointer = args.text(flag) || !based ? std::string("--") + flag
+                                              : "/suggested_profile/" + std::string(field);
       }
     }
   }
@@ -204,7 +207,8 @@ int run_solve(const Args& args) {
   auto input = pallet_arg(args.positionals()[0]);
   if (!input) return kExitBadInput;
   const ConveyorProfile profile = profile_from(args, input->suggested_profile);
-  const Diagnostics problems = at_flags(validate_profile(profile, "/profile"), args);
+  const Diagnostics problems =
+      at_flags(validate_profile(profile, "/profile"), args, input->suggested_profile);
   print_diagnostics(problems);  // errors, and a warning when the run ends mid-motion
   if (has_errors(problems)) return kExitBadInput;
   std::optional<std::ofstream> replay_file;
@@ -539,7 +543,7 @@ std::vector<Command> physics_commands() {
          {"accel", "A", "acceleration, m/s^2 (required for accel_hold and ramp_decel)"},
          {"profile", "SHAPE", enum_choices<ProfileShape>() + " (default accel_hold)"},
          {"duration", "S",
-          "profile length, s (default: until the belt's motion last changes, plus 1 s)"},
+          "profile length, s (default: 5, or until the belt's motion last changes plus 1 s)"},
          {"decel", "D", "stop deceleration of estop, m/s^2 (default 2)"},
          {"decel-start", "S", "when ramp_decel and estop start to slow down, s (default 3)"},
          {"radius", "R", "curve radius, m (default 3)"},

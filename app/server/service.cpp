@@ -932,16 +932,24 @@ bool match(const std::string& pattern, const std::string& path, Params& params) 
   return true;
 }
 
-// The content types a web page may POST to another origin without asking first (a CORS "simple
-// request"): refused, so that no page outside the allowlist can start analyses here. A body
-// without a Content-Type (some scripts) or with any JSON type is read as JSON.
-bool simple_form(std::string_view content_type) {
+// A Content-Type's media type, lower case, without its parameters.
+std::string media_type(std::string_view content_type) {
   std::string type(content_type.substr(0, content_type.find(';')));
   std::transform(type.begin(), type.end(), type.begin(),
                  [](unsigned char ch) { return char(std::tolower(ch)); });
   while (!type.empty() && type.back() == ' ') type.pop_back();
-  return type == "text/plain" || type == "application/x-www-form-urlencoded" ||
-         type == "multipart/form-data";
+  return type;
+}
+
+// The content types a web page may POST to another origin without asking first (a CORS "simple
+// request"), when a body was sent in one: refused, so that no page outside the allowlist can
+// start analyses here. A body without a Content-Type (some scripts) or with any JSON type is read
+// as JSON. The HTTP layer parses a multipart body and drops it, so its body reads empty here.
+bool simple_form(const Request& request) {
+  const std::string type = media_type(request.content_type);
+  if (type == "multipart/form-data") return true;
+  return !request.body.empty() &&
+         (type == "text/plain" || type == "application/x-www-form-urlencoded");
 }
 
 }  // namespace
@@ -978,7 +986,7 @@ Response Service::dispatch(const Request& request, std::string& route) {
       allowed.push_back(r.method);
       continue;
     }
-    if (request.method == "POST" && !request.body.empty() && simple_form(request.content_type)) {
+    if (request.method == "POST" && simple_form(request)) {
       return error_response(415, "the body was sent as '" + request.content_type +
                                      "'; send JSON with the header content-type: "
                                      "application/json");

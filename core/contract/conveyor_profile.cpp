@@ -106,6 +106,10 @@ double ConveyorProfile::motion_end_s() const {
   return all.empty() ? 0.0 : std::max(0.0, *std::max_element(all.begin(), all.end()));
 }
 
+double default_duration_s(const ConveyorProfile& profile) {
+  return std::min(kMaxProfileDurationS, std::max(5.0, profile.motion_end_s() + 1.0));
+}
+
 std::vector<double> ConveyorProfile::breakpoints() const {
   std::vector<double> out = changes(*this);
   std::erase_if(out, [&](double b) { return !(b > 0.0 && b < duration_s); });
@@ -134,7 +138,7 @@ Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix
   Diagnostics out;
   check_range(out, prefix + "/target_speed_mps", p.target_speed_mps, 0.0, false, 5.0, "m/s");
   check_range(out, prefix + "/accel_mps2", p.accel_mps2, 0.0, true, 10.0, "m/s^2");
-  check_range(out, prefix + "/duration_s", p.duration_s, 0.0, true, 30.0, "s");
+  check_range(out, prefix + "/duration_s", p.duration_s, 0.0, true, kMaxProfileDurationS, "s");
   check_range(out, prefix + "/decel_start_s", p.decel_start_s, 0.0, false, 30.0, "s");
   check_range(out, prefix + "/decel_mps2", p.decel_mps2, 0.0, true, 20.0, "m/s^2");
   check_range(out, prefix + "/curve_radius_m", p.curve_radius_m, 0.0, true, 1000.0, "m");
@@ -143,11 +147,15 @@ Diagnostics validate_profile(const ConveyorProfile& p, const std::string& prefix
   check_range(out, prefix + "/eumos_g", p.eumos_g, 0.0, true, 2.0, "g");
   check_range(out, prefix + "/eumos_hold_s", p.eumos_hold_s, 0.3, false, 10.0, "s");
   if (const double end = p.motion_end_s(); !has_errors(out) && end >= p.duration_s) {
-    out.push_back({prefix + "/duration_s",
-                   "the belt is still changing its motion when the run ends at " +
-                       fixed(p.duration_s, 2) + " s (its last change is at " + fixed(end, 2) +
-                       " s), so what follows is not simulated; make duration_s longer than that",
-                   Severity::warning});
+    out.push_back(
+        {prefix + "/duration_s",
+         "the belt is still changing its motion when the run ends at " + fixed(p.duration_s, 2) +
+             " s (its last change is at " + fixed(end, 2) +
+             " s), so what follows is not simulated; " +
+             (end < kMaxProfileDurationS ? std::string("make duration_s longer than that")
+                                         : "a run is at most " + fixed(kMaxProfileDurationS, 0) +
+                                               " s, so choose a motion that ends within it"),
+         Severity::warning});
   }
   return out;
 }

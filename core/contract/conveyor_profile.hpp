@@ -26,7 +26,7 @@ namespace pb {
 struct ConveyorProfile {
   double target_speed_mps = 0.5;  ///< [0, 5]
   double accel_mps2 = 0.5;        ///< (0, 10]
-  double duration_s = 5.0;        ///< (0, 30]
+  double duration_s = 5.0;        ///< (0, 30]; absent from a document: default_duration_s
   ProfileShape shape = ProfileShape::accel_hold;
   double decel_start_s = 3.0;  ///< >= 0; ramp_decel and estop
   // Our additions.
@@ -59,6 +59,14 @@ struct ConveyorProfile {
 
   bool operator==(const ConveyorProfile&) const = default;
 };
+
+/// The longest run a profile may ask for, s.
+inline constexpr double kMaxProfileDurationS = 30.0;
+
+/// How long a profile that names no duration runs: the reference's 5 s, or, for a motion that
+/// changes later, until its last change plus a second for the load to settle into it (at most
+/// kMaxProfileDurationS). The JSON reader and the CLI's flags both default to it.
+double default_duration_s(const ConveyorProfile& profile);
 
 /// Range checks, with pointers below `pointer_prefix` (e.g. "/profile").
 Diagnostics validate_profile(const ConveyorProfile& profile,

@@ -17,6 +17,7 @@
 
 #include "core/contract/json_reader.hpp"
 #include "core/contract/pallet_metrics.hpp"
+#include "core/contract/pallet_type.hpp"
 
 namespace pb {
 
@@ -292,6 +293,10 @@ Result<PalletConfig> pallet_from_json(const Json& json, const std::string& point
   PalletConfig config;
   reader.field(json, p, "pallet_id", config.pallet_id);
   reader.field(json, p, "base_pallet_type", config.base_pallet_type);
+  // An absent base is the named type's nominal one (a GMA pallet is not 1.2 x 0.8 m).
+  const PalletTypeSpec& base = pallet_type_spec(config.base_pallet_type);
+  config.base_dims_m = base.dims_m;
+  config.base_mass_kg = base.mass_kg;
   reader.field(json, p, "base_dims_m", config.base_dims_m);
   reader.field(json, p, "base_mass_kg", config.base_mass_kg);
   if (const Json* items = reader.member(json, p, "items", Need::required)) {
@@ -308,8 +313,12 @@ Result<PalletConfig> pallet_from_json(const Json& json, const std::string& point
 }
 
 Result<ConveyorProfile> profile_from_json(const Json& json, const std::string& pointer_prefix) {
-  return read_document<ConveyorProfile>(json, pointer_prefix, "a conveyor profile",
-                                        ProfileFields{});
+  auto read =
+      read_document<ConveyorProfile>(json, pointer_prefix, "a conveyor profile", ProfileFields{});
+  if (read.value && json.is_object() && !json.contains("duration_s")) {
+    read.value->duration_s = default_duration_s(*read.value);
+  }
+  return read;
 }
 
 Result<SafetyResult> safety_result_from_json(const Json& json, const std::string& pointer_prefix) {

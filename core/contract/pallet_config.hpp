@@ -20,8 +20,8 @@ inline constexpr int kSchemaVersion = 1;
 struct PalletConfig {
   std::string pallet_id = "pallet";
   PalletType base_pallet_type = PalletType::eur;
-  Vec3 base_dims_m{1.2, 0.8, 0.15};
-  double base_mass_kg = 25.0;  ///< (0, 100]
+  Vec3 base_dims_m{1.2, 0.8, 0.15};  ///< absent from a document: the type's (pallet_type.hpp)
+  double base_mass_kg = 25.0;        ///< (0, 100]; absent: the type's tare
   std::vector<Item> items;
   WrapType wrap = WrapType::stretch;
   Environment env = Environment::refrigerated;

@@ -230,8 +230,8 @@ class PhysicsCliTest : public QObject {
     QCOMPARE(str(profile, "shape"), QStringLiteral("accel_hold"));
     QCOMPARE(num(profile, "target_speed_mps"), 0.5);
     QCOMPARE(num(profile, "accel_mps2"), 0.5);
-    QCOMPARE(num(profile, "duration_s"), 2.0);  // the 1 s ramp, plus 1 s
-    // Co-moving after the ramp: nothing can change, so the run stops before the 2 s.
+    QCOMPARE(num(profile, "duration_s"), 5.0);  // the reference's 5 s: the 1 s ramp ends within
+    // Co-moving after the ramp: nothing can change, so the run stops long before the 5 s.
     QCOMPARE(o.value(QStringLiteral("stopped_early")).toBool(), true);
     QVERIFY(num(o, "sim_time_s") >= 1.0 && num(o, "sim_time_s") < 2.0);
     QCOMPARE(str(o, "fidelity"), QStringLiteral("full"));  // unwrapped: the full model, at 1 ms
@@ -245,21 +245,22 @@ class PhysicsCliTest : public QObject {
     QCOMPARE(replay->hz, 10.0);
     QCOMPARE(replay->frames[1].t, 0.1);
 
-    // An e-stop from stdin: no --accel needed; it lasts until the belt stands, plus 1 s.
+    // An e-stop from stdin: no --accel needed; it lasts until the belt stands, plus 1 s, where
+    // that is beyond the reference's 5 s (the server's default too: default_duration_s).
     Run estop = cli({QStringLiteral("solve"), QStringLiteral("-"), QStringLiteral("--profile"),
                      QStringLiteral("estop"), QStringLiteral("--speed"), QStringLiteral("1"),
-                     QStringLiteral("--decel"), QStringLiteral("1"),
+                     QStringLiteral("--decel"), QStringLiteral("0.25"),
                      QStringLiteral("--decel-start"), QStringLiteral("0.2")},
                     bytes(two_cartons()));
     QVERIFY2(estop.exit_code == 0, estop.err.constData());
     const QJsonObject e = estop.json().object().value(QStringLiteral("profile")).toObject();
     QCOMPARE(str(e, "shape"), QStringLiteral("estop"));
-    QCOMPARE(num(e, "decel_mps2"), 1.0);
+    QCOMPARE(num(e, "decel_mps2"), 0.25);
     QCOMPARE(num(e, "decel_start_s"), 0.2);
-    QVERIFY(std::abs(num(e, "duration_s") - 2.2) < 1e-12);
+    QVERIFY(std::abs(num(e, "duration_s") - 5.2) < 1e-12);
 
     // Every flag overrides its field of a suggested profile, --speed and --accel too; a changed
-    // motion runs until it ends plus a second unless --duration says otherwise.
+    // motion runs default_duration_s unless --duration says otherwise.
     Run faster = cli({QStringLiteral("solve"), QStringLiteral("top-heavy-surprise"),
                       QStringLiteral("--speed"), QStringLiteral("0.5")});
     QVERIFY2(faster.exit_code == 0, faster.err.constData());

@@ -425,6 +425,12 @@ class ServiceRoutesTest : public QObject {
       QVERIFY(body_of(form)["detail"].get<std::string>().find("application/json") !=
               std::string::npos);
     }
+    // A file upload (curl -F): the HTTP layer drops its parts, and it is still a 415.
+    const httplib::MultipartFormDataItems upload{{"a", pallet, "pallet.json", "application/json"}};
+    auto multipart = client_->Post("/safety/analyze", upload);
+    QCOMPARE(multipart->status, 415);
+    QVERIFY(body_of(multipart)["detail"].get<std::string>().find("multipart/form-data") !=
+            std::string::npos);
   }
 
   void cors_follows_the_allowlist() {

@@ -7,6 +7,7 @@
 
 #include "core/contract/json_io.hpp"
 #include "core/contract/pallet_metrics.hpp"
+#include "core/contract/pallet_type.hpp"
 #include "core/inputs/validation.hpp"
 
 using namespace pb;
@@ -154,6 +155,21 @@ class JsonIoTest : public QObject {
     expected.env = Environment::frozen;
     expected.body_temp_c = -20.0;
     QVERIFY(*read == expected);
+  }
+
+  void anAbsentBaseIsTheNamedTypes() {
+    for (const PalletType type : {PalletType::eur, PalletType::gma, PalletType::chep}) {
+      Json json = minimal();
+      json["base_pallet_type"] = std::string(to_string(type));
+      const auto read = pallet_from_json(json);
+      QVERIFY(read.ok());
+      QVERIFY(read->base_dims_m == pallet_type_spec(type).dims_m);
+      QCOMPARE(read->base_mass_kg, pallet_type_spec(type).mass_kg);
+      json["base_dims_m"] = {1.0, 1.0, 0.12};  // given: it stands
+      json["base_mass_kg"] = 30.0;
+      QVERIFY((pallet_from_json(json)->base_dims_m == Vec3{1.0, 1.0, 0.12}));
+      QCOMPARE(pallet_from_json(json)->base_mass_kg, 30.0);
+    }
   }
 
   void requiredKeysAreErrors() {
@@ -355,6 +371,21 @@ class JsonIoTest : public QObject {
     QCOMPARE(pointers(read.diagnostics), QString("/profile/speed /profile/accel_mps2 "
                                                  "/profile/shape"));
     QCOMPARE(read.diagnostics[0].severity, Severity::warning);
+  }
+
+  // Without duration_s a profile runs the reference's 5 s, or until its motion ends plus a
+  // second where that is later, at most 30 s; a duration given is kept.
+  void anAbsentDurationSeesTheMotionEnd() {
+    const Json estop{{"shape", "estop"}, {"target_speed_mps", 1.5}, {"decel_mps2", 2}};
+    QCOMPARE(profile_from_json(estop)->duration_s, 5.0);  // it stands at 3.75 s
+    Json slow = estop;
+    slow["decel_mps2"] = 0.25;  // stands at 3 + 6 s
+    QCOMPARE(profile_from_json(slow)->duration_s, 10.0);
+    slow["decel_start_s"] = 25.0;
+    QCOMPARE(profile_from_json(slow)->duration_s, kMaxProfileDurationS);
+    QCOMPARE(validate_profile(*profile_from_json(slow)).size(), std::size_t(1));  // it says so
+    slow["duration_s"] = 4.0;
+    QCOMPARE(profile_from_json(slow)->duration_s, 4.0);
   }
 
   void parseJsonReportsTheByteOffset() {
