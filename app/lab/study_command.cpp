@@ -13,6 +13,7 @@
 #include "app/lab/lab_commands.hpp"
 #include "core/base/text.hpp"
 #include "core/contract/fingerprint.hpp"
+#include "core/lab/breakaway_study.hpp"
 #include "core/lab/stability_study.hpp"
 #include "core/lab/study.hpp"
 
@@ -310,6 +311,50 @@ int run_speed_accuracy(const Args& args) {
   return kExitOk;
 }
 
+// ---- breakaway ----
+
+// One axis's band on one line: each share's outcome (F failed, s safe, U unstable) and peak ratio.
+std::string band_line(const char* axis, const std::vector<BandPoint>& points) {
+  std::string line = std::string("  ") + axis + ":";
+  for (const BandPoint& p : points) {
+    const char* outcome = p.outcome == Outcome::failed ? "F"
+                          : p.outcome == Outcome::safe ? "s"
+                                                       : "U";
+    line += " " + fixed(p.share, 3) + ":" + outcome + fixed(p.peak_ratio, 2);
+  }
+  return line;
+}
+
+int run_breakaway(const Args& args) {
+  auto corpus = corpus_from(args, 0);
+  if (!corpus) return kExitBadInput;
+  auto configs = select_study_configs(args.text("configs").value_or("default"), "--configs");
+  print_diagnostics(configs.diagnostics);
+  if (!configs) return kExitBadInput;
+  std::vector<int> windows(configs->size(), 0);
+  for (const CorpusPallet& pallet : *corpus) {
+    for (std::size_t c = 0; c < configs->size(); ++c) {
+      const StudyConfig& config = (*configs)[c];
+      auto band = breakaway_band(pallet.pallet, config.options);
+      std::cout << pallet.label << " " << config.name;
+      if (!band) {
+        std::cout << ": " << (band.diagnostics.empty() ? "" : band.diagnostics[0].message) << "\n";
+        continue;
+      }
+      std::cout << ": the pallet slips at " << fixed(band->onset_mps2, 3) << " m/s^2"
+                << (band->reduced ? " (the searches' reduced model)" : "") << "\n"
+                << band_line("start-up", band->start_up) << "\n"
+                << band_line("stop", band->stop) << "\n";
+      if (fails_below_a_hold(band->start_up) || fails_below_a_hold(band->stop)) ++windows[c];
+    }
+  }
+  for (std::size_t c = 0; c < configs->size(); ++c) {
+    std::cout << (*configs)[c].name << ": " << windows[c] << " of " << corpus->size()
+              << " pallets fail at a share of the onset and hold at a higher one\n";
+  }
+  return kExitOk;
+}
+
 // ---- convergence ----
 
 int run_convergence(const Args& args) {
@@ -439,8 +484,9 @@ int run_study(const Args& args) {
   if (what == "stability") return run_stability(args);
   if (what == "convergence") return run_convergence(args);
   if (what == "standing") return run_study_standing(args);
+  if (what == "breakaway") return run_breakaway(args);
   throw UsageError{"study: unknown study '" + what +
-                   "'; choose speed-accuracy, stability, convergence or standing"};
+                   "'; choose speed-accuracy, stability, convergence, standing or breakaway"};
 }
 
 }  // namespace
@@ -448,7 +494,7 @@ int run_study(const Args& args) {
 std::vector<Command> study_commands() {
   std::vector<Command> out = {
       {{"study",
-        "study speed-accuracy|stability|convergence|standing [--corpus N] [--seed S] "
+        "study speed-accuracy|stability|convergence|standing|breakaway [--corpus N] [--seed S] "
         "[--pallets LIST] [--configs LIST] [--out DIR] [--cases LIST] [--json] [--wrap W] "
         "[--min-layers A --max-layers B] [--hold S] [--threads T]",
         "Numerical studies. speed-accuracy: every configuration's envelope (fidelity x timestep "
@@ -460,7 +506,9 @@ std::vector<Command> study_commands() {
         "more than one of its search steps). standing: N random pallets judged by validation's "
         "standing rule and, with the rule off, settled and held S seconds on a still belt; "
         "prints the 2x2 table, writes a CSV to --out FILE (exit 1 if a pallet the rule passes "
-        "cannot stand).",
+        "cannot stand). breakaway: start-ups and stops at 0.95-1.0 of each pallet's slip onset, "
+        "in each of --configs (default: default and the reference), on the searches' model; "
+        "counts the pallets that fail there and hold higher up.",
         {{"corpus", "N",
           "random pallets after the curated ones (speed-accuracy default 200, "
           "convergence default 0; standing: the pallets, default 200)"},
