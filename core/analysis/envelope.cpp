@@ -506,7 +506,8 @@ void mark_item_tipped(AxisOutcome& out) {
 
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
                         const SimOptions& o, bool seeded, int k, bool confirm,
-                        Cores* cores = nullptr, double speculate_after_ms = 0.0) {
+                        double confirm_from_peak, Cores* cores = nullptr,
+                        double speculate_after_ms = 0.0) {
   AxisOutcome out;
   auto unstable_at = [&](double x, const SimResult& r) {
     if (!out.unstable) {
@@ -652,9 +653,24 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     out.speculative = ahead->wasted();
     ahead.reset();  // the confirmation's probes run on the path
   }
+  // How near the probe at `x` came to failing, as this search saw it.
+  auto peak_at = [&](double x) {
+    for (auto p = out.probes.rbegin(); p != out.probes.rend(); ++p) {
+      if (p->value == x && !p->confirmation) return p->peak_ratio;
+    }
+    const auto it = known.find(x);
+    return it == known.end() ? 0.0 : it->second.peak_ratio;
+  };
   SimOptions twin = o;
   twin.extrapolate_warmstart = true;
-  while (confirm && out.limit && !out.limit->at_floor) {
+  // Every limit (`confirm`), or that of a load whose items can move (t.vouch) whose own probe
+  // came near failing.
+  auto confirmed = [&](double x) {
+    return confirm || (t.vouch && peak_at(x) >= confirm_from_peak);
+  };
+  bool confirming = false;
+  while (out.limit && !out.limit->at_floor && confirmed(out.limit->limit)) {
+    confirming = true;
     const double x = out.limit->limit;
     const SimResult r = simulator.run(rest, t.profile(x), twin);
     if (o.progress != nullptr) o.progress->finished();
@@ -669,6 +685,9 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     failing[x] = verdict_at(x, r);
     out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch).run(x);
   }
+  // A search after a confirmation counts what it looked up again: the axis's simulations are
+  // this search's runs.
+  if (out.limit && confirming) out.limit->probes = int(out.probes.size());
   if (out.limit) {
     out.limit->closed_form = t.closed_form;
     mark_item_tipped(out);
@@ -1061,8 +1080,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // A search of one task on `simulator` from `rest`.
   auto searcher = [&](Simulator& simulator, const RestState& rest) {
     return [&, sim = &simulator, from = &rest](const AxisTask& task) {
-      return search_axis(task, *sim, *from, o, s.seed_with_closed_form, k, s.confirm_limits, ahead,
-                         s.speculate_after_ms);
+      return search_axis(task, *sim, *from, o, s.seed_with_closed_form, k, s.confirm_limits,
+                         s.confirm_from_peak, ahead, s.speculate_after_ms);
     };
   };
   // Where the stop of a load that slips both ways stands (stop_after, and the threads' claims).

@@ -80,6 +80,11 @@ struct SearchConfig {
   /// there hangs on round-off, the value counts as failing and the search goes on below it. Off
   /// by default, for its cost (measured in core/README.md, "Limits that hang on round-off").
   bool confirm_limits = false;
+  /// A limit of a load whose items can move whose own probe came this near failing
+  /// (SimResult::peak_ratio) is confirmed as confirm_limits confirms every limit: near its
+  /// threshold such a load's fate can hang on round-off (core/README.md, "Limits that hang on
+  /// round-off"). Above 1: none is.
+  double confirm_from_peak = 0.9;
   /// A walk down from a failing probe doubles its steps at once where that probe failed early in
   /// its demand (before kEarlyFailure of it had passed: the limit is likely far below), and steps
   /// singly again after the next late failure (AxisSearch). Off: the walk's fixed steps (three

@@ -131,7 +131,8 @@ AnalyzerOptions reference_options() {
   o.sim.skip_creeping = false;        // every step of a creeping load is stepped
   o.sim.project_pallet_slip = false;  // a slip fails where it crosses its threshold
   o.search.parallel_probes = 1;
-  o.search.derive_axes = false;  // the judge probes every axis
+  o.search.derive_axes = false;      // the judge probes every axis
+  o.search.confirm_from_peak = 2.0;  // and takes each verdict as it comes
   return o;
 }
 
@@ -151,6 +152,7 @@ AnalyzerOptions reference_equivalent_options() {
   o.search.parallel_probes = 1;
   o.search.axis_threads = 1;  // one probe after another, as the reference system searched
   o.search.derive_axes = false;
+  o.search.confirm_from_peak = 2.0;
   o.sim.early_stop = false;
   o.sim.project_pallet_slip = false;
   return o;
@@ -299,6 +301,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.full_model_timestep_s) j["full_model_timestep_s"] = *o.full_model_timestep_s;
   if (o.full_model_solref_s) j["full_model_solref_s"] = *o.full_model_solref_s;
   if (q.confirm_limits) j["confirm_limits"] = true;
+  if (q.confirm_from_peak <= 1.0) j["confirm_from_peak"] = q.confirm_from_peak;
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
   if (o.sim.project_pallet_slip) j["project_pallet_slip"] = true;
   if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
