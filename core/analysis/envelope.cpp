@@ -856,8 +856,9 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   const int checked = int(a.probes.size());
   if (on_check) on_check(!failure);
   AxisTask then = t;
-  for (const Probe& p : a.probes)
-    then.known[p.value] = {p.outcome == Outcome::failed, p.mode, p.peak_ratio};
+  for (const Probe& p : a.probes) {  // the check and the band: known
+    if (!p.confirmation) then.known[p.value] = {p.outcome == Outcome::failed, p.mode, p.peak_ratio};
+  }
   if (failure) {  // it fails there: the axis is searched below
     then.hi = then.seed = failure->at;
     then.known[failure->at] = {true, failure->mode, 1.0};
