@@ -10,7 +10,8 @@
 // for sliding pairs, whose sliding pallets hop on their belts, session 15): 88 / 96, 0 above;
 // with the softer contacts: 89 / 96, 1 above (asymmetric-load's stop, +1.94); with Coulomb
 // friction and curves that did not turn (session 14): 86 / 96, 1 above; before friction changed:
-// 91 / 96, 0 above. Labelled long.
+// 91 / 96, 0 above. And the hold-out set, which the corpus's choices were not tuned on. Labelled
+// long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -21,51 +22,82 @@
 
 using pb::test::cli;
 
+namespace {
+
+// The shipped default's row of `study speed-accuracy` over `curated` and the pallets of
+// docs/studies/<set>/pallets, judged against that set's committed reference envelopes (none
+// recomputed).
+QJsonObject default_against_references(const QString& set, QStringList pallets,
+                                       qsizetype files_expected) {
+  const QString dir = QStringLiteral(PB_SOURCE_DIR "/docs/studies/") + set;
+  QTemporaryDir out;
+  if (!QDir().mkpath(out.filePath("reference-cache"))) return {};
+  QDirIterator cached(dir + "/reference-cache", {"*.json"}, QDir::Files);
+  while (cached.hasNext()) {
+    const QString from = cached.next();
+    if (!QFile::copy(from, out.filePath("reference-cache/" + QFileInfo(from).fileName())))
+      return {};
+  }
+  QDirIterator files(dir + "/pallets", {"*.json"}, QDir::Files);
+  QStringList set_files;
+  while (files.hasNext()) set_files << files.next();
+  set_files.sort();
+  if (set_files.size() != files_expected) return {};
+  // The cache is keyed by the pallet's label as given: the paths the set was run with.
+  for (const QString& f : set_files) {
+    pallets << "docs/studies/" + set + "/pallets/" + QFileInfo(f).fileName();
+  }
+  QProcess p;
+  p.setWorkingDirectory(QStringLiteral(PB_SOURCE_DIR));
+  p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-lab"));
+  p.setArguments({"study", "speed-accuracy", "--pallets", pallets.join(','), "--corpus", "0",
+                  "--configs", "default", "--out", out.path(), "--json"});
+  p.start();
+  if (!p.waitForFinished(1500000) || p.exitCode() != 0) return {};
+  const QByteArray err = p.readAllStandardError();
+  if (err.count("(cached)") != pallets.size()) {  // a reference was recomputed
+    qWarning("%s", err.constData());
+    return {};
+  }
+  const QJsonArray rows = QJsonDocument::fromJson(p.readAllStandardOutput()).array();
+  for (const QJsonValue& v : rows) {
+    if (v.toObject().value("config").toString() == "default") return v.toObject();
+  }
+  return {};
+}
+
+}  // namespace
+
 class AgreementCorpusLabTest : public QObject {
   Q_OBJECT
 
  private slots:
   void defaultAgreesWithTheReferenceLimitByLimit() {
-    const QString corpus = QStringLiteral(PB_SOURCE_DIR "/docs/studies/unwrapped-corpus");
-    QTemporaryDir out;
-    QVERIFY(QDir().mkpath(out.filePath("reference-cache")));
-    QDirIterator cached(corpus + "/reference-cache", {"*.json"}, QDir::Files);
-    while (cached.hasNext()) {
-      const QString from = cached.next();
-      QVERIFY(QFile::copy(from, out.filePath("reference-cache/" + QFileInfo(from).fileName())));
-    }
-    QStringList pallets{"tall-unwrapped-tower", "top-heavy-surprise", "asymmetric-load",
-                        "frozen-pallet-jerk-start"};
-    QDirIterator files(corpus + "/pallets", {"*.json"}, QDir::Files);
-    QStringList corpus_files;
-    while (files.hasNext()) corpus_files << files.next();
-    corpus_files.sort();
-    QCOMPARE(corpus_files.size(), 20);
-    // The cache is keyed by the pallet's label as given: the paths the corpus was run with.
-    for (const QString& f : corpus_files) {
-      pallets << "docs/studies/unwrapped-corpus/pallets/" + QFileInfo(f).fileName();
-    }
-    QProcess p;
-    p.setWorkingDirectory(QStringLiteral(PB_SOURCE_DIR));
-    p.setProgram(QStringLiteral(PB_BIN_DIR "/palletballet-lab"));
-    p.setArguments({"study", "speed-accuracy", "--pallets", pallets.join(','), "--corpus", "0",
-                    "--configs", "default", "--out", out.path(), "--json"});
-    p.start();
-    QVERIFY(p.waitForFinished(1500000));
-    QCOMPARE(p.exitCode(), 0);
-    const QByteArray err = p.readAllStandardError();
-    QVERIFY2(err.count("(cached)") == 24, err);  // no reference was recomputed
-    const QJsonArray rows = QJsonDocument::fromJson(p.readAllStandardOutput()).array();
-    QJsonObject def;
-    for (const QJsonValue& v : rows) {
-      if (v.toObject().value("config").toString() == "default") def = v.toObject();
-    }
+    const QJsonObject def =
+        default_against_references("unwrapped-corpus",
+                                   {"tall-unwrapped-tower", "top-heavy-surprise", "asymmetric-load",
+                                    "frozen-pallet-jerk-start"},
+                                   20);
     QCOMPARE(def.value("pallets").toInt(), 24);
     const double within = def.value("limits_within_one_step").toDouble();
     const int above = def.value("limits_above").toInt();
     qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
           100.0 * within, above);
     QVERIFY2(within >= 0.96, qPrintable(QString::number(within)));
+    QVERIFY2(above == 0, qPrintable(QString::number(above)));
+  }
+
+  // The hold-out set (docs/studies/unwrapped-holdout): 21 pallets drawn as the corpus was and
+  // judged once, not tuned on. Pinned at session 21's 77 of 84 limits (91.7 %) within one step
+  // and none above the reference (before its two fixes: 75 / 84, 3 above).
+  void holdOutHasNoLimitAboveTheReference() {
+    const QJsonObject def = default_against_references("unwrapped-holdout", {}, 21);
+    QCOMPARE(def.value("pallets").toInt(), 21);
+    const double within = def.value("limits_within_one_step").toDouble();
+    const int above = def.value("limits_above").toInt();
+    qInfo("limits within one step %.1f %%, more than one step above the reference: %d",
+          100.0 * within, above);
+    QVERIFY2(within >= 0.91, qPrintable(QString::number(within)));
     QVERIFY2(above == 0, qPrintable(QString::number(above)));
   }
 };
