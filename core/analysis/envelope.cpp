@@ -193,14 +193,6 @@ std::vector<QuasiStaticLimit> in_a_curve(std::vector<QuasiStaticLimit> across, d
   return across;
 }
 
-// The onset of the pallet's slip on its belt among `mechanisms` (m/s^2), 0 if none.
-double belt_onset_mps2(const std::vector<QuasiStaticLimit>& mechanisms) {
-  for (const QuasiStaticLimit& m : mechanisms) {
-    if (m.mechanism == Mechanism::pallet_slip) return m.accel_mps2;
-  }
-  return 0.0;
-}
-
 // The mechanisms that can act: friction cannot push the pallet harder than its belt holds it, so
 // a mechanism of the load (an item's slip, a sub-stack's tip) whose onset is above the pallet's
 // slip onset is carried by the slipping pallet instead, quasi-statically (search_envelope checks
@@ -504,6 +496,17 @@ void mark_item_tipped(AxisOutcome& out) {
   out.limit->item_tipped = above != nullptr && above->item_tipped;
 }
 
+// How near the probe at `x` came to failing: the last of `probes` there (confirmations aside),
+// else as `known`; 0 where neither says.
+double peak_at(const std::vector<Probe>& probes, const std::map<double, ProbeVerdict>& known,
+               double x) {
+  for (auto p = probes.rbegin(); p != probes.rend(); ++p) {
+    if (p->value == x && !p->confirmation) return p->peak_ratio;
+  }
+  const auto it = known.find(x);
+  return it == known.end() ? 0.0 : it->second.peak_ratio;
+}
+
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
                         const SimOptions& o, bool seeded, int k, bool confirm,
                         double confirm_from_peak, Cores* cores = nullptr,
@@ -653,20 +656,12 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     out.speculative = ahead->wasted();
     ahead.reset();  // the confirmation's probes run on the path
   }
-  // How near the probe at `x` came to failing, as this search saw it.
-  auto peak_at = [&](double x) {
-    for (auto p = out.probes.rbegin(); p != out.probes.rend(); ++p) {
-      if (p->value == x && !p->confirmation) return p->peak_ratio;
-    }
-    const auto it = known.find(x);
-    return it == known.end() ? 0.0 : it->second.peak_ratio;
-  };
   SimOptions twin = o;
   twin.extrapolate_warmstart = true;
   // Every limit (`confirm`), or that of a load whose items can move (t.vouch) whose own probe
   // came near failing.
   auto confirmed = [&](double x) {
-    return confirm || (t.vouch && peak_at(x) >= confirm_from_peak);
+    return confirm || (t.vouch && peak_at(out.probes, known, x) >= confirm_from_peak);
   };
   bool confirming = false;
   while (out.limit && !out.limit->at_floor && confirmed(out.limit->limit)) {
@@ -753,10 +748,10 @@ struct BandFailure {
 };
 
 // `a` holding at the check of `t` (belt_check) with peak ratio `peak`, for an answer `limit`
-// above it: where the check came near failing (kNearFailure), the band above it below `limit`
-// (kBreakawayBand) is probed, in order, until a probe fails; each probe is added to `a`. The first
-// failure, or nullopt (the band held, or no follow-up was due, or a probe was unstable: `a` then
-// has no limit).
+// above it (infinite: not known yet): where the check came near failing (kNearFailure), the band
+// above it below `limit` (kBreakawayBand) is probed, in order, until a probe fails; each probe is
+// added to `a`. The first failure, or nullopt (the band held, or no follow-up was due, or a probe
+// was unstable: `a` then has no limit).
 template <typename Run>
 std::optional<BandFailure> probe_breakaway_band(const AxisTask& t, double peak, double limit,
                                                 AxisOutcome& a, const Run& run) {
@@ -775,13 +770,6 @@ std::optional<BandFailure> probe_breakaway_band(const AxisTask& t, double peak, 
   return std::nullopt;
 }
 
-// How near the one probe of `c`, at `x` on `t`, came to failing (known already, or run).
-double peak_of(const AxisTask& t, const AxisOutcome& c, double x) {
-  if (!c.probes.empty()) return c.probes.back().peak_ratio;
-  const auto it = t.known.find(x);
-  return it == t.known.end() ? 0.0 : it->second.peak_ratio;
-}
-
 // `a`, the outcome of the axis searched as `t` (its whole range, its seed, its turn), checked below
 // the pallet's slip onset on its belt (search_envelope): a limit above 0.98 of the onset
 // (kConeSaturated: there the pallet holds, or has barely begun to slip, and its load feels nearly
@@ -798,7 +786,8 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   BandFailure failure{check, FailureMode::no_failure};
   if (c.limit && !c.limit->at_floor) {  // it holds there: the limit above stands, band permitting
     add_probes(a, c);
-    const auto band = probe_breakaway_band(t, peak_of(t, c, check), above.limit, a, run);
+    const auto band =
+        probe_breakaway_band(t, peak_at(c.probes, t.known, check), above.limit, a, run);
     if (!a.limit) return a;  // unstable, or an error: the axis has no limit
     if (!band) {
       a.limit->probes = above.probes + int(a.probes.size() - first);
@@ -850,7 +839,8 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   if (a.limit->at_floor) {
     failure = BandFailure{check, a.limit->mode};
   } else {
-    failure = probe_breakaway_band(t, peak_of(t, a, check), t.hi + 1.0, a, run);
+    failure = probe_breakaway_band(t, peak_at(a.probes, t.known, check),
+                                   std::numeric_limits<double>::infinity(), a, run);
     if (!a.limit) return a;
   }
   const int checked = int(a.probes.size());

@@ -21,9 +21,7 @@ Result<BreakawayBand> breakaway_band(const PalletConfig& config, const AnalyzerO
   if (!prepared) return Result<BreakawayBand>::failure(std::move(prepared.diagnostics));
   PreparedPallet& p = **prepared.value;
   BreakawayBand band;
-  for (const QuasiStaticLimit& m : p.bounds.along) {
-    if (m.mechanism == Mechanism::pallet_slip) band.onset_mps2 = m.accel_mps2;
-  }
+  band.onset_mps2 = belt_onset_mps2(p.bounds.along);
   const PlaneModel* plane = p.planes[0].get();
   band.reduced = plane != nullptr;
   Simulator& simulator = plane ? *plane->simulator : *p.simulator;
@@ -37,9 +35,9 @@ Result<BreakawayBand> breakaway_band(const PalletConfig& config, const AnalyzerO
     return BandPoint{share, value, r.outcome, r.failure ? r.failure->mode : FailureMode::no_failure,
                      r.peak_ratio};
   };
+  if (band.onset_mps2 <= 0.0) return Result<BreakawayBand>{std::move(band), {}};
   for (const double share : shares) {
     const double a = share * band.onset_mps2;
-    if (band.onset_mps2 <= 0.0) break;
     if (a >= s.accel_min_mps2 && a <= s.accel_max_mps2) {
       band.start_up.push_back(point(share, a, accel_probe_profile(a, s)));
     }

@@ -46,6 +46,13 @@ double exit_distance(const Item& item, double x, double y, double ux, double uy)
 
 }  // namespace
 
+double belt_onset_mps2(const std::vector<QuasiStaticLimit>& mechanisms) {
+  for (const QuasiStaticLimit& m : mechanisms) {
+    if (m.mechanism == Mechanism::pallet_slip) return m.accel_mps2;
+  }
+  return 0.0;
+}
+
 QuasiStaticLimit QuasiStaticBounds::weakest_along() const {
   return weakest(along);
 }

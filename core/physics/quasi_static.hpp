@@ -47,6 +47,9 @@ inline bool of_the_whole_load(const QuasiStaticLimit& m) {
 /// across the belt by its lateral part, (r + |y|) / r.
 double curve_demand_factor(const QuasiStaticLimit& m, double radius_m);
 
+/// The onset of the pallet's slip on its belt among `mechanisms` (m/s^2), 0 if none.
+double belt_onset_mps2(const std::vector<QuasiStaticLimit>& mechanisms);
+
 struct QuasiStaticBounds {
   std::vector<QuasiStaticLimit> along;   ///< every mechanism along the belt (X)
   std::vector<QuasiStaticLimit> across;  ///< every mechanism across it (Y)
