@@ -299,15 +299,18 @@ struct AxisOutcome {
 // What a search needs of a run: failed or not, the mode, how near it came.
 // `profile`, where given: the probe's, whose demand (from its first breakpoint, or the start, to
 // its last) a failure is placed in (ProbeVerdict::failed_at).
+// A failure at `time_s` placed in `profile`'s demand (ProbeVerdict::failed_at).
+double share_of_demand(const ConveyorProfile& profile, double time_s) {
+  const std::vector<double> b = profile.breakpoints();
+  const double begin = b.size() >= 2 ? b.front() : 0.0;
+  const double end = b.empty() ? profile.duration_s : b.back();
+  return end > begin ? std::max(0.0, (time_s - begin) / (end - begin)) : 1.0;
+}
+
 ProbeVerdict verdict_of(const SimResult& r, const ConveyorProfile* profile = nullptr) {
   ProbeVerdict v{r.outcome == Outcome::failed,
                  r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
-  if (r.failure && profile != nullptr) {
-    const std::vector<double> b = profile->breakpoints();
-    const double begin = b.size() >= 2 ? b.front() : 0.0;
-    const double end = b.empty() ? profile->duration_s : b.back();
-    if (end > begin) v.failed_at = std::max(0.0, (r.failure->time_s - begin) / (end - begin));
-  }
+  if (r.failure && profile != nullptr) v.failed_at = share_of_demand(*profile, r.failure->time_s);
   return v;
 }
 
@@ -505,6 +508,14 @@ double peak_at(const std::vector<Probe>& probes, const std::map<double, ProbeVer
   }
   const auto it = known.find(x);
   return it == known.end() ? 0.0 : it->second.peak_ratio;
+}
+
+// A probe of `t` as the verdict a later search of the axis knows it by: where the walk hastens
+// (AxisTask::hasten), with how far into its demand it failed.
+ProbeVerdict known_verdict(const AxisTask& t, const Probe& p) {
+  ProbeVerdict v{p.outcome == Outcome::failed, p.mode, p.peak_ratio};
+  if (v.failed && t.hasten) v.failed_at = share_of_demand(t.profile(p.value), p.failure_time_s);
+  return v;
 }
 
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
@@ -802,12 +813,10 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   AxisTask below = t;
   below.hi = failure.at;
   below.seed = std::min(t.seed, failure.at);
-  for (const Probe& p : a.probes) {  // what the searches and checks found below the failure
-    if (p.value < failure.at && !p.confirmation) {
-      below.known[p.value] = {p.outcome == Outcome::failed, p.mode, p.peak_ratio};
-    }
+  for (const Probe& p : a.probes) {  // what the searches and checks found up to the failure
+    if (p.value <= failure.at && !p.confirmation) below.known[p.value] = known_verdict(t, p);
   }
-  below.known[failure.at] = {true, failure.mode, 1.0};
+  below.known.try_emplace(failure.at, ProbeVerdict{true, failure.mode, 1.0});
   continue_with(a, run(below));
   if (a.limit) {
     a.limit->closed_form = above.closed_form;
@@ -847,11 +856,11 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   if (on_check) on_check(!failure);
   AxisTask then = t;
   for (const Probe& p : a.probes) {  // the check and the band: known
-    if (!p.confirmation) then.known[p.value] = {p.outcome == Outcome::failed, p.mode, p.peak_ratio};
+    if (!p.confirmation) then.known[p.value] = known_verdict(t, p);
   }
   if (failure) {  // it fails there: the axis is searched below
     then.hi = then.seed = failure->at;
-    then.known[failure->at] = {true, failure->mode, 1.0};
+    then.known.try_emplace(failure->at, ProbeVerdict{true, failure->mode, 1.0});
   }
   continue_with(a, run(then));
   if (a.limit) {
@@ -1137,7 +1146,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     };
     AxisOutcome b = search_right(right);
     if (b.limit && b.limit->at_floor && right.hi > tasks[i].lo) {
-      right.known[right.hi] = {true, b.limit->mode, 1.0};
+      for (const Probe& p : b.probes) right.known[p.value] = known_verdict(right, p);
       right.lo = tasks[i].lo;
       right.seed = std::min(tasks[i].seed, right.hi);
       continue_with(b, search_right(right));

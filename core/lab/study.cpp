@@ -226,6 +226,14 @@ std::vector<StudyConfig> study_configs() {
                      "the default with sliding pairs in MuJoCo's friction cone at mu_d (a sliding "
                      "pallet hops; the model until session 17)",
                      solver_kinetic));
+  for (double dt : {0.0015, 0.002}) {  // the shipped default, the full model's timestep coarser
+    AnalyzerOptions coarse_dt;
+    coarse_dt.full_model_timestep_s = dt;
+    const std::string ms = dt == 0.002 ? "2" : "1.5";
+    out.push_back(make("default-full-" + ms + "ms",
+                       "the default with the full model at " + ms + " ms (solref 0.01)",
+                       coarse_dt));
+  }
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;
