@@ -6,6 +6,8 @@
 #include <cmath>
 #include <exception>
 
+#include "core/base/text.hpp"
+
 namespace pb::cli {
 
 namespace {
@@ -164,6 +166,16 @@ std::string help_text(const VerbSpec& spec) {
   }
   out += "  --help                   this text\n";
   return out;
+}
+
+double option_in_range(const Args& args, const std::string& verb, const std::string& name,
+                       double fallback, double lo, double hi, const std::string& unit) {
+  const double v = args.number(name).value_or(fallback);
+  if (!(v > lo && v <= hi)) {
+    throw UsageError{verb + ": --" + name + " must be above " + short_number(lo) + " and at most " +
+                     short_number(hi) + " " + unit + ", got " + short_number(v)};
+  }
+  return v;
 }
 
 }  // namespace pb::cli

@@ -57,6 +57,11 @@ class Args {
   std::vector<std::string> positionals_;
 };
 
+/// The value of --name, which must lie in (lo, hi] (`unit` names it in the error); `fallback` when
+/// absent. Throws UsageError naming the verb, the option, its range and the value given.
+double option_in_range(const Args& args, const std::string& verb, const std::string& name,
+                       double fallback, double lo, double hi, const std::string& unit);
+
 /// The --help text of a verb.
 std::string help_text(const VerbSpec& spec);
 

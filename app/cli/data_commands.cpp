@@ -128,9 +128,16 @@ int run_catalog(const Args& args) {
 
 ValidationLimits limits_from(const Args& args) {
   ValidationLimits limits;
-  if (auto v = args.number("max-overhang")) limits.max_overhang_m = *v;
-  if (auto v = args.number("max-height")) limits.max_stack_height_m = *v;
-  if (auto v = args.number("max-mass")) limits.max_gross_mass_kg = *v;
+  if (auto v = args.number("max-overhang")) {  // 0: nothing may reach beyond the deck
+    if (!(*v >= 0.0 && *v <= 1.0)) {
+      throw UsageError{"validate: --max-overhang must be from 0 to 1 m, got " + short_number(*v)};
+    }
+    limits.max_overhang_m = *v;
+  }
+  limits.max_stack_height_m =
+      option_in_range(args, "validate", "max-height", limits.max_stack_height_m, 0.0, 10.0, "m");
+  limits.max_gross_mass_kg =
+      option_in_range(args, "validate", "max-mass", limits.max_gross_mass_kg, 0.0, 1e5, "kg");
   limits.require_known_skus = args.flag("require-known-skus");
   return limits;
 }

@@ -54,17 +54,6 @@ int exit_code_for(const Diagnostics& diagnostics) {
   return kExitFailure;
 }
 
-// The value of --name, which must lie in (lo, hi]; `fallback` when absent.
-double option_in_range(const Args& args, const std::string& verb, const std::string& name,
-                       double fallback, double lo, double hi, const std::string& unit) {
-  const double v = args.number(name).value_or(fallback);
-  if (!(v > lo && v <= hi)) {
-    throw UsageError{verb + ": --" + name + " must be above " + short_number(lo) + " and at most " +
-                     short_number(hi) + " " + unit + ", got " + short_number(v)};
-  }
-  return v;
-}
-
 // An output file opened before the work that fills it, so a bad path fails fast (exit 2).
 std::ofstream open_output(const std::string& verb, const std::string& path) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -201,7 +190,8 @@ int run_solve(const Args& args) {
   options.fidelity = fidelity_option(args, "solve");
   if (options.fidelity == Fidelity::closed_form) {
     throw UsageError{
-        "solve: --fidelity closed_form has no simulation to run; use auto, reduced or full"};
+        "solve: --fidelity closed_form has no simulation to run; use auto, reduced, clustered or "
+        "full"};
   }
   const double hz = option_in_range(args, "solve", "hz", 30.0, 0.0, 1000.0, "frames per second");
   auto input = pallet_arg(args.positionals()[0]);
@@ -554,7 +544,9 @@ std::vector<Command> physics_commands() {
          {"eumos-g", "K", "EUMOS 40509 test pulse, in g (default 0.5)"},
          {"replay", "OUT.json", "write the replay (poses at --hz) to OUT.json"},
          {"hz", "HZ", "replay frame rate (default 30)"},
-         {"fidelity", "LEVEL", "auto, reduced or full: the model that runs (default auto)"}},
+         {"fidelity", "LEVEL",
+          "auto, reduced, clustered or full: the model that runs (default auto; the level that "
+          "ran is in the output's 'fidelity')"}},
         1,
         1},
        run_solve},

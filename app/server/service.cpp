@@ -249,6 +249,33 @@ bool holds_response(const std::variant<T, Response>& v) {
   return std::holds_alternative<Response>(v);
 }
 
+/// The body's "profile", read and validated, with its warnings. `strict` (a /v1/ route): the
+/// profile is required and a member a profile does not have is refused at its pointer, as the
+/// body's own unknown members are ("speed_mps" for "target_speed_mps" would otherwise leave the
+/// default 0.5 m/s in force and answer for a profile nobody asked for). The reference's route
+/// keeps its clients' leniency: absent, the default profile; an unknown member, a warning.
+std::variant<Result<ConveyorProfile>, Response> read_profile(const Json& body, bool strict) {
+  if (!body.contains("profile")) {
+    if (strict) {
+      return error_response(422, "/profile is required: the conveyor profile to simulate",
+                            {{"/profile",
+                              "is required: a ConveyorProfile such as {\"target_speed_mps\": 1, "
+                              "\"accel_mps2\": 2}",
+                              Severity::error}});
+    }
+    return Result<ConveyorProfile>{ConveyorProfile{}, {}};
+  }
+  Result<ConveyorProfile> p = profile_from_json(body["profile"], "/profile");
+  if (strict) {
+    for (Diagnostic& d : p.diagnostics) d.severity = Severity::error;  // unknown members
+  }
+  if (has_errors(p.diagnostics)) return diagnostics_response(422, p.diagnostics);
+  Diagnostics checked = validate_profile(*p.value, "/profile");
+  if (has_errors(checked)) return diagnostics_response(422, checked);
+  p.diagnostics.insert(p.diagnostics.end(), checked.begin(), checked.end());
+  return p;
+}
+
 std::string known_pairs() {
   std::string out;
   for (const auto& k : FrictionModel::builtin().pair_keys()) out += (out.empty() ? "" : ", ") + k;
@@ -582,14 +609,10 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto pallet = read_pallet(body["pallet"], "/pallet", reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
-    ConveyorProfile profile;
-    if (body.contains("profile")) {
-      auto p = profile_from_json(body["profile"], "/profile");
-      if (!p) return diagnostics_response(422, p.diagnostics);
-      profile = *p.value;
-    }
-    const Diagnostics bad_profile = validate_profile(profile, "/profile");
-    if (has_errors(bad_profile)) return diagnostics_response(422, bad_profile);
+    auto read = read_profile(body, !reference);
+    if (holds_response(read)) return std::get<Response>(read);
+    const Result<ConveyorProfile>& profile_read = std::get<Result<ConveyorProfile>>(read);
+    const ConveyorProfile& profile = *profile_read.value;
     if (body.contains("thresholds") && !body["thresholds"].is_null()) {
       const Json& t = body["thresholds"];
       const DetectorThresholds& ours = ao.sim.thresholds;
@@ -633,7 +656,15 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       return json_response(200, solve_response_json(config, s, include_replay, fidelity));
     Json out = sim_result_to_json(s.sim, profile);
     out["fidelity"] = fidelity;
-    out["warnings"] = diagnostics_to_json(warnings_of(run->diagnostics));
+    // What reading the pallet and the profile found, then what the run adds.
+    Diagnostics warnings = warnings_of(std::get<Result<PalletConfig>>(pallet).diagnostics);
+    for (const Diagnostics* more :
+         {&profile_read.diagnostics, static_cast<const Diagnostics*>(&run->diagnostics)}) {
+      for (const Diagnostic& d : warnings_of(*more)) {
+        if (std::find(warnings.begin(), warnings.end(), d) == warnings.end()) warnings.push_back(d);
+      }
+    }
+    out["warnings"] = diagnostics_to_json(warnings);
     out["replay"] = replay_to_json(s.replay);
     return json_response(200, out);
   };
@@ -768,10 +799,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
-    auto profile = profile_from_json(body["profile"], "/profile");
-    if (!profile) return diagnostics_response(422, profile.diagnostics);
-    const Diagnostics bad_profile = validate_profile(*profile, "/profile");
-    if (has_errors(bad_profile)) return diagnostics_response(422, bad_profile);
+    auto read = read_profile(body, true);
+    if (holds_response(read)) return std::get<Response>(read);
+    const ConveyorProfile profile = *std::get<Result<ConveyorProfile>>(read).value;
     auto samples = number_member(body, "samples", 32, 1, options_.max_uncertainty_samples, true);
     if (holds_response(samples)) return std::get<Response>(samples);
     auto seed = number_member(body, "seed", 0, 0, 9007199254740991.0, true);
@@ -795,7 +825,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                     p.rest.cannot_stand->sentence, Severity::error}};
         return;
       }
-      result = failure_probability(*p.scene, p.rest, {*profile}, uo, a.options().sim);
+      result = failure_probability(*p.scene, p.rest, {profile}, uo, a.options().sim);
     });
     if (refusal) return refusal_response(*refusal, *ticket);
     if (!result) return core_failure(refused, "/pallet");
@@ -812,7 +842,7 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                                {"modes", modes},
                                {"sims", u.sims},
                                {"wall_ms", u.wall_ms},
-                               {"profile", profile_to_json(*profile)}});
+                               {"profile", profile_to_json(profile)}});
   });
   post("/v1/replay", [this, analysed](const Request& request, const Params&) {
     std::optional<Axis> wanted;

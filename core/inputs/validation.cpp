@@ -401,7 +401,7 @@ class PhysicalChecks {
 
   void check_overhang(std::size_t i) {
     const double overhang = item_overhang_m(item(i), config_.base_dims_m);
-    if (overhang <= c_.limits().max_overhang_m) return;
+    if (overhang <= c_.limits().max_overhang_m + kLengthRoundOff) return;
     c_.error(item_pointer(i) + "/position", item_name(item(i), i) + " reaches " +
                                                 fixed(1000.0 * overhang, 0) +
                                                 " mm beyond the pallet edge, more than the " +
@@ -439,6 +439,26 @@ void check_base_mass(Checker& c, const PalletConfig& config) {
     c.warning("/base_mass_kg", short_number(config.base_mass_kg) + " kg is light for a " + type +
                                    " pallet (about " + short_number(spec.mass_kg) +
                                    " kg); check base_mass_kg or base_pallet_type");
+  }
+}
+
+// An item carrying one far heavier than itself is beyond what the contact solve holds
+// (ValidationLimits::max_carried_to_carrier_mass): the heavy one creeps off it.
+void check_carried_mass(Checker& c, const PalletConfig& config) {
+  const std::vector<std::vector<std::size_t>> supports = resting_on(config);
+  for (std::size_t j = 0; j < supports.size(); ++j) {
+    for (const std::size_t i : supports[j]) {
+      const Item& carrier = config.items[i];
+      const double ratio = config.items[j].weight_kg / carrier.weight_kg;
+      if (ratio <= c.limits().max_carried_to_carrier_mass) continue;
+      c.error(item_pointer(i) + "/weight_kg",
+              item_name(carrier, i) + ", " + short_number(carrier.weight_kg) + " kg, carries " +
+                  item_name(config.items[j], j) + ", " + short_number(config.items[j].weight_kg) +
+                  " kg (" + short_number(ratio) +
+                  " times as heavy): beyond what the simulation holds (" +
+                  short_number(c.limits().max_carried_to_carrier_mass) +
+                  " times); check both weights, or stack the light item above the heavy one");
+    }
   }
 }
 
@@ -501,6 +521,8 @@ Diagnostics validate(const PalletConfig& config, const ValidationLimits& limits,
   if (weights_ok && std::isfinite(config.base_mass_kg) && config.base_mass_kg > 0.0) {
     check_base_mass(c, config);
     check_gross_mass(c, config);
+    // Supports are read from positions and sizes that passed their own checks.
+    if (!has_errors(c.out)) check_carried_mass(c, config);
   }
   check_stack_height(c, config, usable);
   return c.out;

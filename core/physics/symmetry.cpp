@@ -7,12 +7,15 @@
 #include <numeric>
 #include <tuple>
 
+#include "core/contract/pallet_metrics.hpp"
+
 namespace pb {
 
 namespace {
 
-constexpr double kTouch = 0.001;  // surfaces within 1 mm touch (validation's tolerance)
-constexpr double kSame = 1e-6;    // positions that agree to a micrometre are the same
+constexpr double kTouch =
+    kSupportTolerance_m;        // surfaces within 1 mm touch (validation's tolerance)
+constexpr double kSame = 1e-6;  // positions that agree to a micrometre are the same
 
 struct Extent {
   double x0, x1, y0, y1, z0, z1;

@@ -197,6 +197,19 @@ class CliTest : public QObject {
                          QStringLiteral("--max-height"), QStringLiteral("tall")});
     QCOMPARE(bad_limit.exit_code, 2);
     QVERIFY(bad_limit.err.contains("--max-height expects a number"));
+    // A limit out of range is the flag's mistake, not the pallet's ("remove 226 kg of items" for
+    // --max-mass -1 blamed a pallet of 200 kg).
+    for (const char* flag : {"--max-mass", "--max-height", "--max-overhang"}) {
+      Run negative = cli({QStringLiteral("validate"), QStringLiteral("stable-dairy-slab"),
+                          QString::fromLatin1(flag), QStringLiteral("-1")});
+      QCOMPARE(negative.exit_code, 2);
+      QVERIFY2(negative.err.contains(QByteArray(flag) + " must be"), negative.err.constData());
+    }
+    // No overhang at all: items flush with the deck's edge pass.
+    QCOMPARE(cli({QStringLiteral("validate"), QStringLiteral("stable-dairy-slab"),
+                  QStringLiteral("--max-overhang"), QStringLiteral("0")})
+                 .exit_code,
+             0);
   }
 
   void randomIsDeterministicAndValid() {

@@ -391,6 +391,34 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(post_wrapped(*client_, "/solve", R"("bogus": 1)", pallet)->status, 200);
   }
 
+  // A /v1/ profile is required and holds only a profile's members: "speed_mps" for
+  // "target_speed_mps" ran the default 0.5 m/s and answered safe for a profile nobody sent. What
+  // reading the pallet found is among /v1/solve's warnings, as /v1/analyze lists it.
+  void a_v1_profile_is_required_and_strict() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    for (const char* route : {"/v1/solve", "/v1/uncertainty"}) {
+      auto typo = post_wrapped(*client_, route, R"("profile": {"speed_mps": 2})", pallet);
+      QCOMPARE(typo->status, 422);
+      QCOMPARE(body_of(typo)["errors"][0]["pointer"], "/profile/speed_mps");
+      auto none = post_wrapped(*client_, route, R"("samples": 2)", pallet);
+      QCOMPARE(none->status, 422);
+    }
+    auto none = post_wrapped(*client_, "/v1/solve", R"("hz": 10)", pallet);
+    QCOMPARE(none->status, 422);
+    QCOMPARE(body_of(none)["errors"][0]["pointer"], "/profile");
+    // The reference's route keeps its clients' leniency: the default profile, the typo warned.
+    auto lenient = post_wrapped(*client_, "/solve", R"("profile": {"speed_mps": 2})", pallet);
+    QCOMPARE(lenient->status, 200);
+    Json extra = Json::parse(pallet);
+    extra["bogus_key"] = 1;
+    const Json s = body_of(post_wrapped(*client_, "/v1/solve",
+                                        R"("profile": {"target_speed_mps": 1, "accel_mps2": 1})",
+                                        extra.dump()));
+    bool warned = false;
+    for (const Json& w : s["warnings"]) warned = warned || w["pointer"] == "/pallet/bogus_key";
+    QVERIFY2(warned, s["warnings"].dump().c_str());
+  }
+
   // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers; a
   // body a web page may POST to any origin without asking (text/plain, a form) is refused (415).
   void counts_grids_and_content_types_are_checked() {

@@ -419,6 +419,24 @@ class ValidationTest : public QObject {
     for (const Diagnostic& d : validate(config)) QVERIFY(d.pointer != "/base_mass_kg");
   }
 
+  // An item carrying one more than 100 times its weight is refused at its weight (a 0.5 kg plate
+  // under a 500 kg block answered a start-up limit of 0.9 m/s^2 where the pallet slips at 4.7);
+  // at 100 times, or a light item on a heavy one, it is not.
+  void anItemCarryingFarMoreThanItsWeight() {
+    PalletConfig config = valid();  // item 2 (25 kg) rests on item 0
+    config.items[0].weight_kg = 0.2;
+    Diagnostics errors = errors_of(validate(config));
+    QCOMPARE(errors.size(), std::size_t{1});
+    QCOMPARE(errors[0].pointer, std::string("/items/0/weight_kg"));
+    QVERIFY2(contains(errors[0].message, "carries item 2"), errors[0].message.c_str());
+    QVERIFY2(contains(errors[0].message, "125 times as heavy"), errors[0].message.c_str());
+    config.items[0].weight_kg = 0.25;
+    QVERIFY(!has_errors(validate(config)));
+    config.items[0].weight_kg = 25.0;
+    config.items[2].weight_kg = 0.2;
+    QVERIFY(!has_errors(validate(config)));
+  }
+
   void grossMassAboveTheCap() {
     PalletConfig config = valid();
     for (Item& item : config.items) item.weight_kg = 400.0;  // 1225 kg with the base

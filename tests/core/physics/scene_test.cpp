@@ -146,6 +146,20 @@ class SceneTest : public QObject {
     }
   }
 
+  // A gap exactly at validation's 1 mm tolerance, as the input's decimals put it (0.151 - 0.15
+  // computes a hair over 0.001), still gets its pair: above the deck, below it, and above the
+  // carton under it. Validation passes all three, so each must be carried.
+  void aGapAtTheToleranceStillTouches() {
+    for (const double z : {0.151, 0.149}) {
+      const PalletConfig config = pallet({carton(0.0, 0.0, z)});
+      QVERIFY(!has_errors(validate(config)));
+      QCOMPARE(pairs_of(compile(config).get()).size(), std::size_t(2));  // belt-pallet, item-pallet
+    }
+    const PalletConfig stacked = pallet({carton(0.0, 0.0, 0.15), carton(0.0, 0.0, 0.351)});
+    QVERIFY(!has_errors(validate(stacked)));
+    QCOMPARE(pairs_of(compile(stacked).get()).size(), std::size_t(3));
+  }
+
   // Side by side: 3 cm apart they can touch (within neighbour_distance_m), 6 cm apart not.
   void neighboursWithinReachGetAPair() {
     for (const auto& [gap, expected_pairs] : {std::pair{0.03, 4}, std::pair{0.06, 3}}) {
