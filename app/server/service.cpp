@@ -758,11 +758,16 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                              std::pair{"accels_mps2", &grids.accels_mps2}}) {
       if (prefix.empty() || !body.contains(key)) continue;
       const Json& v = body[key];
-      if (!v.is_array() || v.empty() || v.size() > 64 ||
-          !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); })) {
+      if (!v.is_array() || v.empty() || v.size() > 64) {
         const std::string what = "must be an array of 1 to 64 numbers (absent: the default grid)";
         return error_response(422, std::string("/") + key + " " + what,
                               {{std::string("/") + key, what, Severity::error}});
+      }
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        if (v[i].is_number()) continue;
+        const std::string at = std::string("/") + key + "/" + std::to_string(i);
+        const std::string what = "must be a number, not " + std::string(v[i].type_name());
+        return error_response(422, at + " " + what, {{at, what, Severity::error}});
       }
       *grid = v.get<std::vector<double>>();
     }

@@ -61,9 +61,12 @@ class Checker {
     const bool ok = std::isfinite(value) &&
                     (range.lo_open ? value > range.lo : value >= range.lo) && value <= range.hi;
     if (!ok) {
-      error(pointer, what + " is " + (std::isfinite(value) ? fixed(value, 4) : "not finite") + " " +
-                         unit + "; set it to a number in " + (range.lo_open ? "(" : "[") +
-                         fixed(range.lo, 2) + ", " + fixed(range.hi, 2) + "] " + unit);
+      const std::string shown = !std::isfinite(value)   ? "not finite"
+                                : std::abs(value) < 1e6 ? fixed(value, 4)
+                                                        : short_number(value);
+      error(pointer, what + " is " + shown + " " + unit + "; set it to a number in " +
+                         (range.lo_open ? "(" : "[") + fixed(range.lo, 2) + ", " +
+                         fixed(range.hi, 2) + "] " + unit);
     }
     return ok;
   }
@@ -158,7 +161,11 @@ bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
   }
   for (std::size_t k = 0; k < 3; ++k) {
     const std::string k_str = std::to_string(k);
-    ok = c.finite(p + "/position/" + k_str, "position[" + k_str + "]", item.position[k], "m") && ok;
+    // Any item beyond 10 m of the pallet's centre is off it; a larger number is a unit slip
+    // (1e308 was reported as reaching "inf mm" beyond the edge).
+    ok = c.in_range(p + "/position/" + k_str, "position[" + k_str + "]", item.position[k],
+                    {-10.0, 10.0, false}, "m") &&
+         ok;
   }
   ok = c.in_range(p + "/orientation_deg", "orientation_deg", item.orientation_deg,
                   {-180.0, 180.0, false}, "deg") &&

@@ -430,6 +430,9 @@ class ServiceRoutesTest : public QObject {
     auto empty = post_wrapped(*client_, "/v1/map", R"("speeds_mps": [])", pallet);
     QCOMPARE(empty->status, 422);
     QCOMPARE(body_of(empty)["errors"][0]["pointer"], "/speeds_mps");
+    auto word = post_wrapped(*client_, "/v1/map", R"("speeds_mps": [1, "x"])", pallet);
+    QCOMPARE(word->status, 422);
+    QCOMPARE(body_of(word)["errors"][0]["pointer"], "/speeds_mps/1");
     QCOMPARE(client_->Get("/friction/curve?pair=carton/carton&n=2.7")->status, 422);
     // A query parameter the route does not read (a misspelt one would leave its default in
     // force), or one given twice, is refused with its name.

@@ -223,6 +223,11 @@ class ValidationTest : public QObject {
     PalletConfig config = valid();
     config.items[0].position[1] = kNaN;
     EXPECT_ONE(validate(config), "/items/0/position/1", Severity::error);
+    // Far off any pallet: a unit slip, refused at the coordinate, not reported as reaching
+    // "inf mm" beyond the deck.
+    config.items[0].position[1] = 1e308;
+    EXPECT_ONE(validate(config), "/items/0/position/1", Severity::error);
+    QVERIFY2(contains(only.message, "1e+308 m"), only.message.c_str());
   }
 
   void itemOrientation() {
