@@ -296,10 +296,8 @@ struct AxisOutcome {
   std::optional<std::string> error;  ///< an exception ended the search (out of memory, say)
 };
 
-// What a search needs of a run: failed or not, the mode, how near it came.
-// `profile`, where given: the probe's, whose demand (from its first breakpoint, or the start, to
-// its last) a failure is placed in (ProbeVerdict::failed_at).
-// A failure at `time_s` placed in `profile`'s demand (ProbeVerdict::failed_at).
+// A failure at `time_s` placed in `profile`'s demand, from its first breakpoint (or the start) to
+// its last (ProbeVerdict::failed_at).
 double share_of_demand(const ConveyorProfile& profile, double time_s) {
   const std::vector<double> b = profile.breakpoints();
   const double begin = b.size() >= 2 ? b.front() : 0.0;
@@ -307,6 +305,8 @@ double share_of_demand(const ConveyorProfile& profile, double time_s) {
   return end > begin ? std::max(0.0, (time_s - begin) / (end - begin)) : 1.0;
 }
 
+// What a search needs of a run: failed or not, the mode, how near it came.
+// `profile`, where given: the probe's, whose demand a failure is placed in.
 ProbeVerdict verdict_of(const SimResult& r, const ConveyorProfile* profile = nullptr) {
   ProbeVerdict v{r.outcome == Outcome::failed,
                  r.failure ? r.failure->mode : FailureMode::no_failure, r.peak_ratio};
@@ -516,6 +516,13 @@ ProbeVerdict known_verdict(const AxisTask& t, const Probe& p) {
   ProbeVerdict v{p.outcome == Outcome::failed, p.mode, p.peak_ratio};
   if (v.failed && t.hasten) v.failed_at = share_of_demand(t.profile(p.value), p.failure_time_s);
   return v;
+}
+
+// `x`, where a search of the axis failed (its own probe, or one along the other numerical path
+// where the probe itself held): failed in `known`, keeping the probe's verdict where it failed.
+void mark_failed(std::map<double, ProbeVerdict>& known, double x, FailureMode mode) {
+  ProbeVerdict& v = known[x];
+  if (!v.failed) v = ProbeVerdict{true, mode, 1.0};
 }
 
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
@@ -816,7 +823,7 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   for (const Probe& p : a.probes) {  // what the searches and checks found up to the failure
     if (p.value <= failure.at && !p.confirmation) below.known[p.value] = known_verdict(t, p);
   }
-  below.known.try_emplace(failure.at, ProbeVerdict{true, failure.mode, 1.0});
+  mark_failed(below.known, failure.at, failure.mode);
   continue_with(a, run(below));
   if (a.limit) {
     a.limit->closed_form = above.closed_form;
@@ -860,7 +867,7 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   }
   if (failure) {  // it fails there: the axis is searched below
     then.hi = then.seed = failure->at;
-    then.known.try_emplace(failure->at, ProbeVerdict{true, failure->mode, 1.0});
+    mark_failed(then.known, failure->at, failure->mode);
   }
   continue_with(a, run(then));
   if (a.limit) {
@@ -1146,7 +1153,10 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     };
     AxisOutcome b = search_right(right);
     if (b.limit && b.limit->at_floor && right.hi > tasks[i].lo) {
-      for (const Probe& p : b.probes) right.known[p.value] = known_verdict(right, p);
+      for (const Probe& p : b.probes) {
+        if (!p.confirmation) right.known[p.value] = known_verdict(right, p);
+      }
+      mark_failed(right.known, right.hi, b.limit->mode);
       right.lo = tasks[i].lo;
       right.seed = std::min(tasks[i].seed, right.hi);
       continue_with(b, search_right(right));
