@@ -266,8 +266,15 @@ std::variant<Result<ConveyorProfile>, Response> read_profile(const Json& body, b
     return Result<ConveyorProfile>{ConveyorProfile{}, {}};
   }
   Result<ConveyorProfile> p = profile_from_json(body["profile"], "/profile");
-  if (strict) {
-    for (Diagnostic& d : p.diagnostics) d.severity = Severity::error;  // unknown members
+  if (strict) {  // a profile's only warnings are its unknown members
+    for (Diagnostic& d : p.diagnostics) {
+      if (d.severity != Severity::warning) continue;
+      d.severity = Severity::error;
+      d.message = "'" + d.pointer.substr(d.pointer.rfind('/') + 1) +
+                  "' is not a member of a conveyor profile: it would be ignored and its default "
+                  "run instead; fix its spelling (target_speed_mps, accel_mps2, decel_mps2, ...) "
+                  "or remove it";
+    }
   }
   if (has_errors(p.diagnostics)) return diagnostics_response(422, p.diagnostics);
   Diagnostics checked = validate_profile(*p.value, "/profile");
