@@ -74,11 +74,13 @@ bool mirror_symmetric_along(const PalletConfig& config, double tolerance_m = 0.0
 /// experiment, mirrored.
 bool mirror_symmetric_across(const PalletConfig& config, double tolerance_m = 0.001);
 
-/// Surfaces within this distance touch: validation's tolerance (1 mm) and the round-off of the
-/// subtraction that measures a gap, as validation allows it (0.151 - 0.15 is
-/// 0.0010000000000000009 in doubles: an item placed 1 mm above the deck passed validation and got
-/// no contact with it, so it fell through and the load was called one that cannot stand).
-inline constexpr double kSupportTolerance_m = 0.001 + 1e-9;
+/// A length that meets a tolerance exactly in the input's decimals may compute a hair over it
+/// (0.151 - 0.15 is 0.0010000000000000009 in doubles): every tolerance allows this much more.
+inline constexpr double kLengthRoundOff_m = 1e-9;
+/// Surfaces within this distance touch: validation's tolerance (1 mm) and the round-off (an item
+/// placed 1 mm above the deck passed validation and got no contact with it, so it fell through
+/// and the load was called one that cannot stand).
+inline constexpr double kSupportTolerance_m = 0.001 + kLengthRoundOff_m;
 /// Per item, the items it rests on directly: their top within kSupportTolerance_m of its bottom,
 /// their footprints sharing more than 1 cm^2 (less is an edge: a neighbour, not a support).
 std::vector<std::vector<std::size_t>> resting_on(const PalletConfig& config);

@@ -24,8 +24,6 @@ constexpr double kNominalDimsTolerance = 0.05;
 constexpr double kCatalogTolerance = 0.01;
 // Footprint overlap (m^2) below which two items do not touch from above (1 mm^2).
 constexpr double kMinContactArea = 1e-6;
-// Lengths that meet a tolerance exactly in the input's decimals may compute a hair over it.
-constexpr double kLengthRoundOff = 1e-9;  // m
 
 std::string item_pointer(std::size_t i) {
   return "/items/" + std::to_string(i);
@@ -69,12 +67,6 @@ class Checker {
                          fixed(range.hi, 2) + "] " + unit);
     }
     return ok;
-  }
-
-  bool finite(const std::string& pointer, const std::string& what, double value, const char* unit) {
-    if (std::isfinite(value)) return true;
-    error(pointer, what + " is not finite; set it to a finite number of " + unit);
-    return false;
   }
 
   const ValidationLimits& limits() const { return limits_; }
@@ -274,9 +266,9 @@ class PhysicalChecks {
 
   // The tolerances as compared: an input given to the millimetre that meets one exactly (an item
   // at z = 0.441 m on a top at 0.440 m) computes a hair over it in doubles, and was refused.
-  double support_tolerance() const { return c_.limits().support_tolerance_m + kLengthRoundOff; }
+  double support_tolerance() const { return c_.limits().support_tolerance_m + kLengthRoundOff_m; }
   double penetration_tolerance() const {
-    return c_.limits().penetration_tolerance_m + kLengthRoundOff;
+    return c_.limits().penetration_tolerance_m + kLengthRoundOff_m;
   }
 
   void run() {
@@ -408,7 +400,7 @@ class PhysicalChecks {
 
   void check_overhang(std::size_t i) {
     const double overhang = item_overhang_m(item(i), config_.base_dims_m);
-    if (overhang <= c_.limits().max_overhang_m + kLengthRoundOff) return;
+    if (overhang <= c_.limits().max_overhang_m + kLengthRoundOff_m) return;
     c_.error(item_pointer(i) + "/position", item_name(item(i), i) + " reaches " +
                                                 fixed(1000.0 * overhang, 0) +
                                                 " mm beyond the pallet edge, more than the " +

@@ -54,8 +54,8 @@ double interval_gap(double a0, double a1, double b0, double b1) {
   return std::max(b0 - a1, a0 - b1);  // negative when the intervals overlap
 }
 
-constexpr double kTouch =
-    kSupportTolerance_m;  // surfaces within 1 mm touch (validation's tolerance)
+// Surfaces within 1 mm touch (validation's tolerance, round-off included).
+constexpr double kTouch = kSupportTolerance_m;
 
 // Per item, how far to pull in each world-aligned face (-x, +x, -y, +y) to leave `gap` between
 // neighbouring cartons.

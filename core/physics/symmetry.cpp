@@ -13,8 +13,8 @@ namespace pb {
 
 namespace {
 
-constexpr double kTouch =
-    kSupportTolerance_m;        // surfaces within 1 mm touch (validation's tolerance)
+// Surfaces within 1 mm touch (validation's tolerance, round-off included).
+constexpr double kTouch = kSupportTolerance_m;
 constexpr double kSame = 1e-6;  // positions that agree to a micrometre are the same
 
 struct Extent {
