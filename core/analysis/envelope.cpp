@@ -71,24 +71,6 @@ double normalised(const AxisLimit& a, double lo, double hi) {
   return std::clamp((a.limit - lo) / (hi - lo), 0.0, 1.0);
 }
 
-// Speed from which a stop at `decel` (above the onset) makes a slip that slides at `sliding`
-// (m/s^2, mu_d g) slide `distance`: d_slide = v^2 / 2 (1 / sliding - 1 / decel).
-double slide_speed(double sliding, double decel, double distance) {
-  const double k = 1.0 / sliding - 1.0 / decel;
-  return k > 0.0 ? std::sqrt(2.0 * distance / k) : 1e9;
-}
-
-// The belt-relative slide of a load held by Coulomb friction when the belt's acceleration steps to
-// `a` for `duration_s` and back to zero: nothing below the static onset `onset` (mu_s g); above
-// it the load breaks loose and lags at a - mu_d g (`sliding`, kinetic friction) during the step,
-// then catches up at mu_d g after it. (For an e-stop from v, T = v / a, this is slide_speed's
-// v^2 / 2 (1 / (mu_d g) - 1 / a).)
-double coulomb_slide_m(double onset, double sliding, double a, double duration_s) {
-  if (a <= onset || sliding <= 0.0) return a > onset ? 1e9 : 0.0;
-  const double lag = (a - sliding) * duration_s;
-  return 0.5 * lag * duration_s + lag * lag / (2.0 * sliding);
-}
-
 // How far a mechanism's slip may travel before its detector fires; 0 for a tip.
 double slide_allowance_m(Mechanism m, const DetectorThresholds& t) {
   switch (m) {
@@ -109,7 +91,7 @@ double slide_allowance_m(Mechanism m, const DetectorThresholds& t) {
 
 AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
                             double hi, const std::function<double(double)>& step_duration_s,
-                            const DetectorThresholds& thresholds) {
+                            const DetectorThresholds& thresholds, double break_loose_m) {
   AxisPrediction out{hi, FailureMode::no_failure};
   for (const QuasiStaticLimit& m : mechanisms) {
     const double onset = m.accel_mps2 / unit;
@@ -119,7 +101,8 @@ AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, dou
       // 2 / a^2 > 0; a curve's and a stop's likewise), so bisection finds where it reaches the
       // allowance.
       auto slide = [&](double x) {
-        return coulomb_slide_m(m.accel_mps2, sliding_decel_mps2(m), x * unit, step_duration_s(x));
+        return breakaway_slide_m(m.accel_mps2, sliding_decel_mps2(m), x * unit, step_duration_s(x),
+                                 break_loose_m);
       };
       if (onset >= hi || slide(hi) < allowance) continue;
       double a = std::max(onset, lo), b = hi;
@@ -206,23 +189,26 @@ std::vector<QuasiStaticLimit> carried(std::vector<QuasiStaticLimit> mechanisms) 
   return mechanisms;
 }
 
-// Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe).
+// Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe),
+// its slips breaking loose after `break_loose_m` on their static cones.
 AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDescription& line,
-                                  const SearchConfig& s, const DetectorThresholds& thresholds) {
+                                  const SearchConfig& s, const DetectorThresholds& thresholds,
+                                  double break_loose_m = kBreakLooseM) {
   AxisPredictions p;
   p.accel = predict_axis(
       carried(bounds.along), 1.0, s.accel_min_mps2, s.accel_max_mps2,
-      [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds);
+      [&](double a) { return accel_probe_profile(a, s).target_speed_mps / a; }, thresholds,
+      break_loose_m);
   p.decel = predict_axis(
       carried(bounds.along), 1.0, s.decel_min_mps2, s.decel_max_mps2,
-      [&](double d) { return s.speed_max_mps / d; }, thresholds);
+      [&](double d) { return s.speed_max_mps / d; }, thresholds, break_loose_m);
   p.lateral = predict_axis(
       carried(in_a_curve(bounds.across, line.curve_radius_m)), kGravity, s.lateral_min_g,
       s.lateral_max_g,
       [&](double g) {
         return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
       },
-      thresholds);
+      thresholds, break_loose_m);
   return p;
 }
 
@@ -917,10 +903,12 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   double speed_seed = s.speed_max_mps;
   if (line.estop_decel_mps2 > along.accel_mps2) {
     const bool slip = along.mode == FailureMode::pallet_slip;
-    speed_seed = along.mode == FailureMode::tip_over
-                     ? s.speed_min_mps
-                     : slide_speed(sliding_decel_mps2(along), line.estop_decel_mps2,
-                                   slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m);
+    speed_seed =
+        along.mode == FailureMode::tip_over
+            ? s.speed_min_mps
+            : breakaway_slide_speed_mps(
+                  along.accel_mps2, sliding_decel_mps2(along), line.estop_decel_mps2,
+                  slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m, kBreakLooseM);
   }
   // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
   // mechanisms are the pallet slipping and the whole load tipping) fails monotonically, so its
@@ -933,9 +921,13 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // The walk up starts one step above the weakest onset, or where the rigid-body prediction of
   // any mechanism says the probe fails if that is lower: a curve holds its demand for the whole
   // arc, so a Coulomb slide reaches its allowance there a thousandth of a g above the onset, and a
-  // search from one step above it would first walk down.
+  // search from one step above it would first walk down. That prediction is the earliest any
+  // rigid body could fail (Coulomb's slide, breaking loose at once), so the walk starts low;
+  // a search from a prediction (the pallet's slide) starts at the simulation's own friction law's,
+  // where its probes bracket the limit soonest.
   const AxisPredictions predicted = predict_envelope(bounds, line, s, o.thresholds);
   const AxisPredictions rigid = rigid_predictions(bounds, line, s, o.thresholds);
+  const AxisPredictions earliest = rigid_predictions(bounds, line, s, o.thresholds, 0.0);
   const bool one_body = bounds.one_body();
   // Where no mechanism of the load can act below the pallet's slip (carried), the pallet's slide
   // fails it as it does a load that moves as one body, monotonically: searched from its
@@ -944,8 +936,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   auto walks = [&](const AxisPrediction& p) {
     return !one_body && p.mode != FailureMode::pallet_slip;
   };
-  auto seed = [&](const AxisPrediction& p, const AxisPrediction& r, double hi, double precision) {
-    if (walks(p)) return std::min(p.value + precision, r.value);
+  auto seed = [&](const AxisPrediction& p, const AxisPrediction& r, const AxisPrediction& e,
+                  double hi, double precision) {
+    if (walks(p)) return std::min(p.value + precision, e.value);
     const double at = one_body ? p.value : r.value;
     return at >= hi ? hi : at - 0.5 * precision;
   };
@@ -971,7 +964,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        s.accel_min_mps2,
        s.accel_max_mps2,
        s.accel_precision_mps2,
-       seed(predicted.accel, rigid.accel, s.accel_max_mps2, s.accel_precision_mps2),
+       seed(predicted.accel, rigid.accel, earliest.accel, s.accel_max_mps2, s.accel_precision_mps2),
        predicted.accel.value,
        [&](double a) { return accel_probe_profile(a, s); },
        {},
@@ -983,7 +976,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        s.decel_min_mps2,
        s.decel_max_mps2,
        s.decel_precision_mps2,
-       seed(predicted.decel, rigid.decel, s.decel_max_mps2, s.decel_precision_mps2),
+       seed(predicted.decel, rigid.decel, earliest.decel, s.decel_max_mps2, s.decel_precision_mps2),
        predicted.decel.value,
        [&](double d) { return decel_probe_profile(d, s.speed_max_mps, s); },
        {},
@@ -995,7 +988,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        s.lateral_min_g,
        s.lateral_max_g,
        s.lateral_precision_g,
-       seed(predicted.lateral, rigid.lateral, s.lateral_max_g, s.lateral_precision_g),
+       seed(predicted.lateral, rigid.lateral, earliest.lateral, s.lateral_max_g,
+            s.lateral_precision_g),
        predicted.lateral.value,
        [&](double g) { return lateral_probe_profile(g, line, s); },
        {},
@@ -1508,12 +1502,13 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, Mechanism::pallet_slip, "", -1};
   if (line.estop_decel_mps2 > along.accel_mps2) {
     stop.mode = along.mode;
-    stop.accel_mps2 =
-        along.mode == FailureMode::tip_over
-            ? 0.0
-            : slide_speed(sliding_decel_mps2(along), line.estop_decel_mps2,
-                          along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
-                                                                 : thresholds.item_slide_m);
+    stop.accel_mps2 = along.mode == FailureMode::tip_over
+                          ? 0.0
+                          : breakaway_slide_speed_mps(
+                                along.accel_mps2, sliding_decel_mps2(along), line.estop_decel_mps2,
+                                along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
+                                                                       : thresholds.item_slide_m,
+                                kBreakLooseM);
   }
   env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
                                s.speed_precision_mps);

@@ -12,6 +12,7 @@
 #include "core/contract/safety_result.hpp"
 #include "core/physics/quasi_static.hpp"
 #include "core/physics/simulate.hpp"
+#include "core/physics/step.hpp"
 
 namespace pb {
 
@@ -170,14 +171,17 @@ struct AxisPrediction {
 };
 
 /// The closed-form model of a probe: each mechanism as a rigid body. A tip fails at its
-/// quasi-static onset g (b/2) / h. A slip fails where its Coulomb slide reaches what its detector
-/// allows (the pallet 0.30 m on the belt, an item 0.05 m on the deck, 0.02 m on another item): a
-/// belt acceleration a held for T = step_duration_s(x) leaves a load of onset mu g behind by
-/// (a - mu g) T^2 / 2 + ((a - mu g) T)^2 / (2 mu g). The weakest mechanism wins. `unit` converts
-/// the axis's values to m/s^2 (g for the curve axis).
+/// quasi-static onset g (b/2) / h. A slip fails where its slide reaches what its detector allows
+/// (the pallet 0.30 m on the belt, an item 0.05 m on the deck, 0.02 m on another item): a belt
+/// acceleration a held for T = step_duration_s(x) leaves a load of static onset mu_s g behind by
+/// breakaway_slide_m (quasi_static.hpp: the simulation's friction law, which breaks loose after
+/// slipping `break_loose_m` on the static cone and slides at mu_d g; with 0, Coulomb's (a - mu_d
+/// g) T^2 / 2 + ((a - mu_d g) T)^2 / (2 mu_d g), the earliest any rigid body fails). The weakest
+/// mechanism wins. `unit` converts the axis's values to m/s^2 (g for the curve axis).
 AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
                             double hi, const std::function<double(double)>& step_duration_s,
-                            const DetectorThresholds& thresholds);
+                            const DetectorThresholds& thresholds,
+                            double break_loose_m = kBreakLooseM);
 
 struct AxisPredictions {
   AxisPrediction accel, decel, lateral;
@@ -229,10 +233,11 @@ Result<Envelope> search_envelope(const ProbeModel& along, const ProbeModel& acro
                                  const SimOptions& sim, const AxisFound& found = {});
 
 /// The closed-form rung of the fidelity ladder: every limit from the quasi-static bounds (onset of
-/// slip or tip, floored to the search precision; the e-stop speed from the Coulomb slide distance
-/// v^2 / 2 (1 / (mu g) - 1 / d)), no simulation, reported with fidelity "closed_form". An
-/// estimate, not a bound: a probe allows a finite slide (above the onset) but its onset is a step
-/// load that a tall load can rock under (below it), and which wins depends on the load.
+/// slip or tip, floored to the search precision; the e-stop speed from the slide distance,
+/// breakaway_slide_speed_mps: about v^2 / 2 (1 / (mu_d g) - 1 / d)), no simulation, reported with
+/// fidelity "closed_form". An estimate, not a bound: a probe allows a finite slide (above the
+/// onset) but its onset is a step load that a tall load can rock under (below it), and which wins
+/// depends on the load.
 Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescription& line = {},
                               const SearchConfig& search = {},
                               const DetectorThresholds& thresholds = {});

@@ -161,4 +161,41 @@ QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactF
   return out;
 }
 
+double breakaway_slide_m(double onset, double sliding, double a, double duration_s,
+                         double break_loose_m) {
+  if (a <= onset) return 0.0;
+  if (sliding <= 0.0) return 1e9;
+  // On the static cone, lagging at a - onset, until it has slipped break_loose_m or the push ends.
+  const double lag_static = a - onset;
+  const double t_static = std::min(std::sqrt(2.0 * break_loose_m / lag_static), duration_s);
+  double slip = 0.5 * lag_static * t_static * t_static, lag = lag_static * t_static;
+  if (t_static < duration_s) {  // loose within the push: lags at a - sliding to its end
+    const double t = duration_s - t_static, lag_kinetic = a - sliding;
+    slip += lag * t + 0.5 * lag_kinetic * t * t;
+    lag += lag_kinetic * t;
+    return slip + lag * lag / (2.0 * sliding);
+  }
+  // Held through the push: catches up at the onset, and at `sliding` once it has slipped
+  // break_loose_m.
+  const double room = 2.0 * onset * (break_loose_m - slip);
+  if (lag * lag <= room) return slip + lag * lag / (2.0 * onset);
+  return break_loose_m + (lag * lag - room) / (2.0 * sliding);
+}
+
+double breakaway_slide_speed_mps(double onset, double sliding, double decel, double distance,
+                                 double break_loose_m) {
+  if (decel <= onset || sliding <= 0.0) return 1e9;
+  auto slide = [&](double v) {
+    return breakaway_slide_m(onset, sliding, decel, v / decel, break_loose_m);
+  };
+  double lo = 0.0, hi = 1.0;
+  while (slide(hi) < distance && hi < 1e9) hi *= 2.0;
+  if (slide(hi) < distance) return 1e9;
+  for (int i = 0; i < 100 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (slide(mid) < distance ? lo : hi) = mid;
+  }
+  return hi;
+}
+
 }  // namespace pb

@@ -66,6 +66,24 @@ struct QuasiStaticBounds {
 /// are the effective (frost-penalised) static values.
 QuasiStaticBounds quasi_static_bounds(const PalletConfig& config, const ContactFriction& friction);
 
+/// How far (m) a load held by friction slides on what carries it when that is pushed at `a` (m/s^2)
+/// for `duration_s` and then runs steady, under step.hpp's friction law: nothing at or below the
+/// static onset `onset` (mu_s g); above it the load slips on its static cone, lagging at a - onset,
+/// until it has slipped `break_loose_m` (kBreakLooseM in the simulation), then breaks loose and
+/// lags at a - `sliding` (mu_d g) until the push ends, and then catches up at `sliding` (at `onset`
+/// while it has not yet slipped that far). For an e-stop from v at a the push lasts v / a. With
+/// break_loose_m 0 this is Coulomb's slide, breaking loose at once: the longest any such load
+/// slides, 2-13 % longer than the simulation's (step_test). 1e9 where the load slides and nothing
+/// stops it
+/// (`sliding` 0).
+double breakaway_slide_m(double onset, double sliding, double a, double duration_s,
+                         double break_loose_m);
+
+/// The speed from which a stop at `decel` makes that slide `distance` long (breakaway_slide_m over
+/// v / decel, which grows with v); 1e9 where the stop is at or below the onset.
+double breakaway_slide_speed_mps(double onset, double sliding, double decel, double distance,
+                                 double break_loose_m);
+
 /// A mechanism's deceleration once it moves: a slip's kinetic mu_d g (no more than its onset), a
 /// tip's onset.
 inline double sliding_decel_mps2(const QuasiStaticLimit& m) {

@@ -2,12 +2,14 @@
 #include "core/physics/quasi_static.hpp"
 
 #include <QtTest>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/physics/step.hpp"
 #include "tests/core/test_pallets.hpp"
 
 using namespace pb;
@@ -225,6 +227,44 @@ class QuasiStaticTest : public QObject {
     QVERIFY2(near(find(b.along, 0, "tips").accel_mps2, 2.0 * g), text(find(b.along, 0, "tips")));
     QVERIFY(near(find(b.across, 0, "tips").accel_mps2, g * 0.15 / 0.1));
     QVERIFY(near(find(b.along, 1, "tips").accel_mps2, g * 0.2 / 0.2));
+  }
+  // breakaway_slide_m against the friction law it states, integrated step by step (1 us): the
+  // load lags at a - onset on its static cone until it has slipped the break-loose distance, then
+  // at a - sliding until the push ends, then catches up at sliding. Coulomb's slide (breaking loose
+  // at once) is the longest; below the onset nothing moves; the stop speed inverts the slide.
+  void theBreakawaySlideIsItsFrictionLawIntegrated() {
+    const double onset = 0.4 * g, sliding = 0.3 * g;
+    auto integrated = [&](double a, double push_s, double break_loose_m) {
+      const double dt = 1e-6;
+      double slip = 0.0, lag = 0.0, t = 0.0;
+      bool loose = break_loose_m <= 0.0;
+      while (t < push_s || lag > 0.0) {
+        const double friction = loose ? sliding : onset;
+        const double rate = t < push_s ? a - friction : -friction;
+        lag = std::max(0.0, lag + rate * dt);
+        slip += lag * dt;
+        if (slip >= break_loose_m) loose = true;
+        t += dt;
+      }
+      return slip;
+    };
+    for (const double a : {4.5, 5.0, 7.0}) {
+      for (const double push : {0.02, 0.3, 1.5}) {
+        const double expected = integrated(a, push, kBreakLooseM);
+        const double closed = breakaway_slide_m(onset, sliding, a, push, kBreakLooseM);
+        QVERIFY2(std::abs(closed - expected) <= 1e-3 * expected + 1e-6,
+                 qPrintable(
+                     QString("a %1, %2 s: %3 vs %4 m").arg(a).arg(push).arg(closed).arg(expected)));
+        const double coulomb = breakaway_slide_m(onset, sliding, a, push, 0.0);
+        QVERIFY(std::abs(coulomb - integrated(a, push, 0.0)) <= 1e-3 * coulomb + 1e-6);
+        QVERIFY(coulomb > closed);
+      }
+    }
+    QCOMPARE(breakaway_slide_m(onset, sliding, onset, 1.0, kBreakLooseM), 0.0);
+    QCOMPARE(breakaway_slide_m(onset, 0.0, 5.0, 1.0, kBreakLooseM), 1e9);
+    const double v = breakaway_slide_speed_mps(onset, sliding, 5.0, 0.3, kBreakLooseM);
+    QVERIFY(std::abs(breakaway_slide_m(onset, sliding, 5.0, v / 5.0, kBreakLooseM) - 0.3) < 1e-9);
+    QCOMPARE(breakaway_slide_speed_mps(onset, sliding, onset, 0.3, kBreakLooseM), 1e9);
   }
 };
 
