@@ -189,6 +189,11 @@ std::vector<QuasiStaticLimit> carried(std::vector<QuasiStaticLimit> mechanisms) 
   return mechanisms;
 }
 
+// How long a curve probe at `lateral_g` holds its demand (its arc), s.
+double arc_s(double lateral_g, const LineDescription& line, const SearchConfig& s) {
+  return lateral_probe_profile(lateral_g, line, s).duration_s - kSettleLead - s.hold_s;
+}
+
 // Every mechanism's failure as if the load moved as one body (predict_axis on each axis's probe),
 // its slips breaking loose after `break_loose_m` on their static cones.
 AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDescription& line,
@@ -204,12 +209,27 @@ AxisPredictions rigid_predictions(const QuasiStaticBounds& bounds, const LineDes
       [&](double d) { return s.speed_max_mps / d; }, thresholds, break_loose_m);
   p.lateral = predict_axis(
       carried(in_a_curve(bounds.across, line.curve_radius_m)), kGravity, s.lateral_min_g,
-      s.lateral_max_g,
-      [&](double g) {
-        return lateral_probe_profile(g, line, s).duration_s - kSettleLead - s.hold_s;
-      },
-      thresholds, break_loose_m);
+      s.lateral_max_g, [&](double g) { return arc_s(g, line, s); }, thresholds, break_loose_m);
   return p;
+}
+
+// The curve (g) at which a pallet broken loose at the arc's entry slides its allowance by the
+// arc's end, sliding at mu_d g from the start; the top of the range where nothing slips. A rigid
+// load holds its pallet on its static cone up to mu_s g, but a wrapped one sways into its wrap as
+// the curve's demand steps on, and the friction it asks of its pallet overshoots the steady v^2/r
+// and breaks the pallet loose below that (core/README "The reduced level in a curve").
+double loose_at_entry_g(const QuasiStaticBounds& bounds, const LineDescription& line,
+                        const SearchConfig& s, const DetectorThresholds& thresholds) {
+  std::vector<QuasiStaticLimit> slips;
+  for (QuasiStaticLimit m : in_a_curve(bounds.across, line.curve_radius_m)) {
+    if (m.mechanism != Mechanism::pallet_slip) continue;
+    m.accel_mps2 = sliding_decel_mps2(m);
+    slips.push_back(m);
+  }
+  return predict_axis(
+             slips, kGravity, s.lateral_min_g, s.lateral_max_g,
+             [&](double g) { return arc_s(g, line, s); }, thresholds, 0.0)
+      .value;
 }
 
 }  // namespace
@@ -1010,6 +1030,29 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        estop_same_until,
        0.0},  // the e-stop's deceleration is the line's: no higher demand is probed
   };
+  // The reduced level merges a wrapped load rigidly into its pallet, which then holds on its static
+  // cone up to mu_s g in a curve; the real load sways into its wrap as the curve's demand steps
+  // on, which breaks the pallet loose lower (the full model and the reference do). So its curve is
+  // searched no higher than where a pallet loose from the arc's entry slides its allowance
+  // (loose_at_entry_g), and a limit held there fails above it by that slip.
+  std::optional<double> lateral_cap;
+  if (config.wrap != WrapType::none && across_model.simulator->scene().layout.merged) {
+    if (const double cap = loose_at_entry_g(bounds, line, s, o.thresholds); cap < tasks[2].hi) {
+      tasks[2].hi = std::max(cap, tasks[2].lo);
+      tasks[2].seed = std::min(tasks[2].seed, tasks[2].hi);
+      lateral_cap = tasks[2].hi;
+    }
+  }
+  // An axis's outcome as the envelope takes it: the capped curve's limit held at its cap fails
+  // above it.
+  auto capped = [&](std::size_t i, AxisOutcome a) {
+    if (tasks[i].axis == Axis::lateral && lateral_cap && a.limit && a.limit->at_ceiling) {
+      a.limit->at_ceiling = false;
+      a.limit->mode = FailureMode::pallet_slip;
+      a.limit->loose_at_entry = true;
+    }
+    return a;
+  };
   std::vector<AxisOutcome> outcomes(tasks.size());
   // Derived axes (see the header): the stop of a mirror-symmetric load waits for the start-up
   // search and the e-stop speed for the stop search; each is searched only if it cannot be taken.
@@ -1204,7 +1247,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // Runs axis task i on its plane's model (on the model's own simulator), after the others.
   auto search = [&](std::size_t i) {
     const ProbeModel m = model_of(tasks[i].axis);
-    AxisOutcome a = run_task(i, *m.simulator, *m.rest);
+    AxisOutcome a = capped(i, run_task(i, *m.simulator, *m.rest));
     tell(tasks[i].axis, a);
     return a;
   };
@@ -1299,7 +1342,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         const std::size_t i = *next;
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
-          outcomes[i] = run_task(i, simulator_for(*m.simulator), *m.rest);
+          outcomes[i] = capped(i, run_task(i, simulator_for(*m.simulator), *m.rest));
           tell(tasks[i].axis, outcomes[i]);
           stop_after(i, simulator_for(*m.simulator), *m.rest);
         } catch (const std::exception& e) {
@@ -1445,8 +1488,10 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     // to, and stops from, the top of the speed range (the probes); the speed limit is the
     // line's, after them. Each axis says what fails above it.
     auto above = [](const AxisLimit& a) {
-      return a.at_ceiling ? std::string("the top of the range")
-                          : "above it, " + std::string(mode_words(a.mode, a.item_tipped));
+      if (a.at_ceiling) return std::string("the top of the range");
+      std::string words = "above it, " + std::string(mode_words(a.mode, a.item_tipped));
+      if (a.loose_at_entry) words += " once the load's sway at the curve's entry breaks it loose";
+      return words;
     };
     why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2 (" << above(env.accel)
         << "; " << (predicted ? "predicted, not simulated, for" : "measured") << " ramping to "
@@ -1495,8 +1540,15 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   const AxisPredictions p = predict_envelope(bounds, line, s, thresholds);
   env.accel = closed_form_axis(p.accel, s.accel_min_mps2, s.accel_max_mps2, s.accel_precision_mps2);
   env.decel = closed_form_axis(p.decel, s.decel_min_mps2, s.decel_max_mps2, s.decel_precision_mps2);
-  env.lateral =
-      closed_form_axis(p.lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
+  // A wrapped load's curve as the reduced level takes it (search_envelope): its pallet is broken
+  // loose at the arc's entry.
+  AxisPrediction lateral = p.lateral;
+  if (const double cap = loose_at_entry_g(bounds, line, s, thresholds);
+      bounds.one_body() && cap < lateral.value) {
+    lateral = {cap, FailureMode::pallet_slip};
+  }
+  env.lateral = closed_form_axis(lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
+  env.lateral.loose_at_entry = lateral.value < p.lateral.value && !env.lateral.at_ceiling;
   // The e-stop: nothing moves below the onset; above it a slide grows with v^2 (a tip is
   // assumed at any speed).
   QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, Mechanism::pallet_slip, "", -1};

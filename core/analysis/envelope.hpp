@@ -137,6 +137,10 @@ struct AxisLimit {
   /// A top_item_slide above the limit whose item tipped rather than slid (item_tipped): the
   /// reason says "an item tips over".
   bool item_tipped = false;
+  /// Lateral, a wrapped load on the reduced level: held at the curve where a pallet broken loose
+  /// at the arc's entry slides its allowance by the arc's end, which the rigid model cannot break
+  /// loose there (search_envelope); the reason says so.
+  bool loose_at_entry = false;
 };
 
 struct Envelope {
