@@ -87,6 +87,15 @@ double slide_allowance_m(Mechanism m, const DetectorThresholds& t) {
   return 0.0;
 }
 
+// The speed from which the line's e-stop makes `along`, the weakest slip along the belt, slide
+// what its detector allows (the pallet on its belt, an item on the deck).
+double estop_slide_speed_mps(const QuasiStaticLimit& along, const LineDescription& line,
+                             const DetectorThresholds& t) {
+  return breakaway_slide_speed_mps(
+      along.accel_mps2, sliding_decel_mps2(along), line.estop_decel_mps2,
+      along.mode == FailureMode::pallet_slip ? t.pallet_slip_m : t.item_slide_m, kBreakLooseM);
+}
+
 }  // namespace
 
 AxisPrediction predict_axis(const std::vector<QuasiStaticLimit>& mechanisms, double unit, double lo,
@@ -922,13 +931,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // bound nothing slides and any speed is safe; above it the slide grows with v^2.
   double speed_seed = s.speed_max_mps;
   if (line.estop_decel_mps2 > along.accel_mps2) {
-    const bool slip = along.mode == FailureMode::pallet_slip;
-    speed_seed =
-        along.mode == FailureMode::tip_over
-            ? s.speed_min_mps
-            : breakaway_slide_speed_mps(
-                  along.accel_mps2, sliding_decel_mps2(along), line.estop_decel_mps2,
-                  slip ? o.thresholds.pallet_slip_m : o.thresholds.item_slide_m, kBreakLooseM);
+    speed_seed = along.mode == FailureMode::tip_over
+                     ? s.speed_min_mps
+                     : estop_slide_speed_mps(along, line, o.thresholds);
   }
   // Each axis is searched on its own. A load that moves as one body (a wrapped load: its only
   // mechanisms are the pallet slipping and the whole load tipping) fails monotonically, so its
@@ -1035,18 +1040,18 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // on, which breaks the pallet loose lower (the full model and the reference do). So its curve is
   // searched no higher than where a pallet loose from the arc's entry slides its allowance
   // (loose_at_entry_g), and a limit held there fails above it by that slip.
-  std::optional<double> lateral_cap;
+  bool lateral_capped = false;
   if (config.wrap != WrapType::none && across_model.simulator->scene().layout.merged) {
     if (const double cap = loose_at_entry_g(bounds, line, s, o.thresholds); cap < tasks[2].hi) {
       tasks[2].hi = std::max(cap, tasks[2].lo);
       tasks[2].seed = std::min(tasks[2].seed, tasks[2].hi);
-      lateral_cap = tasks[2].hi;
+      lateral_capped = true;
     }
   }
   // An axis's outcome as the envelope takes it: the capped curve's limit held at its cap fails
   // above it.
   auto capped = [&](std::size_t i, AxisOutcome a) {
-    if (tasks[i].axis == Axis::lateral && lateral_cap && a.limit && a.limit->at_ceiling) {
+    if (tasks[i].axis == Axis::lateral && lateral_capped && a.limit && a.limit->at_ceiling) {
       a.limit->at_ceiling = false;
       a.limit->mode = FailureMode::pallet_slip;
       a.limit->loose_at_entry = true;
@@ -1543,9 +1548,9 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   // A wrapped load's curve as the reduced level takes it (search_envelope): its pallet is broken
   // loose at the arc's entry.
   AxisPrediction lateral = p.lateral;
-  if (const double cap = loose_at_entry_g(bounds, line, s, thresholds);
-      bounds.one_body() && cap < lateral.value) {
-    lateral = {cap, FailureMode::pallet_slip};
+  if (bounds.one_body()) {
+    const double cap = loose_at_entry_g(bounds, line, s, thresholds);
+    if (cap < lateral.value) lateral = {cap, FailureMode::pallet_slip};
   }
   env.lateral = closed_form_axis(lateral, s.lateral_min_g, s.lateral_max_g, s.lateral_precision_g);
   env.lateral.loose_at_entry = lateral.value < p.lateral.value && !env.lateral.at_ceiling;
@@ -1554,13 +1559,8 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   QuasiStaticLimit stop{s.speed_max_mps, FailureMode::no_failure, Mechanism::pallet_slip, "", -1};
   if (line.estop_decel_mps2 > along.accel_mps2) {
     stop.mode = along.mode;
-    stop.accel_mps2 = along.mode == FailureMode::tip_over
-                          ? 0.0
-                          : breakaway_slide_speed_mps(
-                                along.accel_mps2, sliding_decel_mps2(along), line.estop_decel_mps2,
-                                along.mode == FailureMode::pallet_slip ? thresholds.pallet_slip_m
-                                                                       : thresholds.item_slide_m,
-                                kBreakLooseM);
+    stop.accel_mps2 =
+        along.mode == FailureMode::tip_over ? 0.0 : estop_slide_speed_mps(along, line, thresholds);
   }
   env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
                                s.speed_precision_mps);
