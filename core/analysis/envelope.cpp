@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -1259,7 +1260,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // The stop of a load that slips both ways follows its start-up on the same model and thread.
   // Where another thread took the stop once the start-up failed its check, nothing is left here.
   auto stop_after = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
-    if (!slips_both_ways || tasks[i].axis != Axis::accel) return;
+    if (!slips_both_ways || tasks[i].axis != Axis::accel) return false;
     bool mine = false;
     {
       const std::lock_guard lock(stop.mutex);
@@ -1267,10 +1268,45 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       mine = !stop.taken && outcomes[i].limit.has_value();
       stop.taken = stop.taken || mine;
     }
-    if (!mine) return;
+    if (!mine) return false;
     stop.changed.notify_all();  // no thread waits for the stop now
     outcomes[1] = stop_after_slip(outcomes[i], simulator, rest);
     tell(Axis::decel, outcomes[1]);
+    return true;
+  };
+  // The axes derived from others (see the header), on the thread that found what they derive from,
+  // as soon as it is known, while the other searches go on: the stop of a mirror-image load from
+  // its start-up (task i), and the e-stop speed from the stop. Until session 24 both waited for
+  // every search to end, and a 96-carton column searched its e-stop speed (7 s) after its curve.
+  // `stop_here`: this thread has just found the stop (stop_after).
+  auto derive_after = [&](std::size_t i, bool stop_here, Simulator& simulator,
+                          const RestState& rest) {
+    if (!outcomes[i].limit) return;  // unstable: the envelope fails; nothing derives from it
+    if (mirror && tasks[i].axis == Axis::accel) {
+      if (pulses(outcomes[i])) {
+        outcomes[1] = mirrored(outcomes[i]);
+      } else {
+        if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
+        outcomes[1] = capped(1, run_task(1, simulator, rest));
+      }
+      tell(Axis::decel, outcomes[1]);
+      stop_here = true;
+    }
+    stop_here = stop_here || tasks[i].axis == Axis::decel;
+    if (!from_stop || !stop_here || !outcomes[1].limit) return;
+    const AxisLimit& down = *outcomes[1].limit;
+    AxisOutcome& estop = outcomes[3];
+    if (down.at_ceiling || down.limit >= line.estop_decel_mps2) {
+      estop.limit = AxisLimit{};
+      estop.limit->limit = s.speed_max_mps;
+      estop.limit->at_ceiling = true;
+      estop.limit->closed_form = tasks[3].closed_form;
+      estop.limit->derived = true;
+    } else {
+      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
+      estop = capped(3, run_task(3, simulator, rest));
+      tell(Axis::speed, estop);
+    }
   };
   // After the start-up's thread is through with it (its stop searched, or the start-up unstable
   // or thrown), no thread may wait for the stop.
@@ -1287,8 +1323,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       outcomes[i] = search(i);
       if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
       const ProbeModel m = model_of(tasks[i].axis);
-      stop_after(i, *m.simulator, *m.rest);
+      const bool stop_here = stop_after(i, *m.simulator, *m.rest);
       if (tasks[i].axis == Axis::accel && slips_both_ways && !outcomes[1].limit) break;
+      derive_after(i, stop_here, *m.simulator, *m.rest);
     }
   } else {
     // Axes are independent: each thread takes the next axis it can on an mjData of its own for that
@@ -1296,6 +1333,15 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     // search runs). The calling thread uses the models' simulators; the others make theirs within
     // the memory budget, and end when no axis is left that they can take.
     std::vector<bool> taken(order.size(), false);
+    // The calling thread, which alone holds the models' own mjData, takes the axes of the largest
+    // model first: the budget may hold no other mjData of it (a 96-carton load's curve), and had
+    // the caller taken the start-up first, the curve would wait for it.
+    std::vector<std::size_t> by_size(order.size());
+    std::iota(by_size.begin(), by_size.end(), std::size_t{0});
+    std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
+      return budget_bytes(*model_of(tasks[order[a]].axis).simulator) >
+             budget_bytes(*model_of(tasks[order[b]].axis).simulator);
+    });
     auto work = [&](bool caller) {
       std::map<const Scene*, std::unique_ptr<Simulator>> own;
       std::int64_t reserved = 0;
@@ -1314,7 +1360,8 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       auto claim = [&]() -> std::optional<std::size_t> {
         std::unique_lock lock(stop.mutex);
         for (;;) {
-          for (std::size_t n = 0; n < order.size(); ++n) {
+          for (std::size_t pos = 0; pos < order.size(); ++pos) {
+            const std::size_t n = caller ? by_size[pos] : pos;
             if (taken[n] || !can_take(order[n])) continue;
             taken[n] = true;
             return order[n];
@@ -1347,13 +1394,14 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         const std::size_t i = *next;
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
-          outcomes[i] = capped(i, run_task(i, simulator_for(*m.simulator), *m.rest));
+          Simulator& simulator = simulator_for(*m.simulator);
+          outcomes[i] = capped(i, run_task(i, simulator, *m.rest));
           tell(tasks[i].axis, outcomes[i]);
-          stop_after(i, simulator_for(*m.simulator), *m.rest);
+          derive_after(i, stop_after(i, simulator, *m.rest), simulator, *m.rest);
         } catch (const std::exception& e) {
-          // The start-up ended (it has its limit): the stop that followed it threw.
-          const std::size_t failed =
-              slips_both_ways && tasks[i].axis == Axis::accel && outcomes[i].limit ? 1 : i;
+          // An axis that has its limit did not throw: what followed it did (derive_after), the
+          // stop, or else the e-stop speed after it.
+          const std::size_t failed = !outcomes[i].limit ? i : !outcomes[1].limit ? 1 : 3;
           outcomes[failed] = {};
           outcomes[failed].error =
               std::string(to_string(tasks[failed].axis)) + " search: " + e.what();
@@ -1372,30 +1420,6 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     stop_check->drain();
     outcomes[1].ran_ahead += stop_check->started();
     outcomes[1].speculative += stop_check->wasted();
-  }
-  AxisOutcome& up = outcomes[0];
-  AxisOutcome& down = outcomes[1];
-  AxisOutcome& estop = outcomes[3];
-  if (mirror && up.limit) {
-    if (pulses(up)) {
-      down = mirrored(up);
-      tell(Axis::decel, down);
-    } else {
-      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
-      down = search(1);
-    }
-  }
-  if (from_stop && down.limit && outcomes[2].limit) {
-    if (down.limit->at_ceiling || down.limit->limit >= line.estop_decel_mps2) {
-      estop.limit = AxisLimit{};
-      estop.limit->limit = s.speed_max_mps;
-      estop.limit->at_ceiling = true;
-      estop.limit->closed_form = tasks[3].closed_form;
-      estop.limit->derived = true;
-    } else {
-      if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
-      estop = search(3);
-    }
   }
   // Probes in axis order whatever the threads did; the first axis in that order that failed names
   // the reason.

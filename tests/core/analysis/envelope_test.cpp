@@ -652,6 +652,36 @@ class EnvelopeTest : public QObject {
     QVERIFY(!env->decel.derived && env->decel.probes > 0);
   }
 
+  // The axes derived from others follow on the thread that found what they derive from, while
+  // the other searches go on: a mirror-image stack that slides on its deck at 0.15 g (1.47 m/s^2)
+  // stops below the line's 2 m/s^2 e-stop, so its e-stop speed is searched from its stop, which is
+  // its start-up's. Side by side, with the default budget and with one that holds only the model's
+  // own mjData (every axis on the calling thread), the probes are bitwise the serial search's.
+  void derivedAxesFollowTheSearchTheyDeriveFrom() {
+    auto s = settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}),
+                    {1.0, 0.15, 0.4});
+    QVERIFY(s);
+    SearchConfig one = search_;
+    one.axis_threads = 1;
+    auto serial = search_envelope(*s->sim, s->rest, s->bounds, line_, one);
+    QVERIFY2(serial.ok(), serial.ok() ? "" : serial.diagnostics[0].message.c_str());
+    QVERIFY(serial->decel.derived);
+    QVERIFY2(serial->decel.limit < line_.estop_decel_mps2, describe(serial->decel));
+    QVERIFY(!serial->speed.derived && serial->speed.probes > 0);  // searched from the stop
+    for (const double budget : {s->sim->data_bytes(), search_.axis_memory_bytes}) {
+      SearchConfig side_by_side = search_;
+      side_by_side.axis_memory_bytes = budget;
+      auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, side_by_side);
+      QVERIFY(env.ok());
+      compare_probes(*env, *serial);
+      if (QTest::currentTestFailed()) return;
+      QCOMPARE(env->decel.limit, serial->decel.limit);
+      QCOMPARE(env->speed.limit, serial->speed.limit);
+      QCOMPARE(env->speed.mode, serial->speed.mode);
+      QCOMPARE(env->lateral.limit, serial->lateral.limit);
+    }
+  }
+
   // A load off the mirror plane whose pallet slips on its belt before any item moves, both ways
   // (belt mu 0.3, the cartons' 0.6 and 0.7): once the pallet slips the load slides as one body,
   // so its stop is the start-up's, taken on the same thread after it and checked once below the
