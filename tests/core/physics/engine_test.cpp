@@ -3,6 +3,8 @@
 
 #include <QtTest>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <thread>
@@ -146,6 +148,26 @@ class EngineTest : public QObject {
     QCOMPARE(data.diagnostics.size(), std::size_t{1});
     QCOMPARE(data.diagnostics[0].pointer, std::string());
     QCOMPARE(data.diagnostics[0].message, std::string("MuJoCo error: Could not allocate memory"));
+  }
+
+  // MuJoCo allocates through the engine's allocator (init_engine): blocks aligned as its own
+  // (64 bytes), and one of tens of megabytes (a large load's mjData) on a huge page's boundary,
+  // zeroed by mj_makeData as before; one that cannot be had is MuJoCo's error, as before.
+  void largeBlocksAreAllocatedInHugePages() {
+    init_engine();
+    for (const std::size_t size : {std::size_t{1}, std::size_t{100}, std::size_t{40} << 20}) {
+      void* block = mju_malloc(size);
+      QVERIFY(block != nullptr);
+      const auto address = reinterpret_cast<std::uintptr_t>(block);
+      QCOMPARE(address % (size >= (std::size_t{32} << 20) ? std::size_t{2} << 20 : 64), 0u);
+      std::memset(block, 1, size);  // all of it is ours
+      mju_free(block);
+    }
+    ModelPtr model = compiled(box_on_plane("<size njmax=\"2000\"/>"));  // efc_AR 32 MB
+    DataPtr data = data_for(model.get());
+    QCOMPARE(data->efc_AR[std::size_t(model->njmax) * std::size_t(model->njmax) - 1], 0.0);
+    QCOMPARE(guarded([] { mju_malloc(std::numeric_limits<std::size_t>::max() - 1); }).value_or(""),
+             std::string("MuJoCo error: Could not allocate memory"));
   }
 
   // A stack overflow while stepping (mj_stackAlloc -> mju_error) unwinds to guarded().
