@@ -1109,9 +1109,28 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // The stop of a load that slips both ways is checked below its pallet's onset whatever its
   // start-up finds (mirrored from it, or searched from the check up or down): that probe runs from
   // the start, beside the searches, for the stop's search to take.
+  // The calling thread, which alone holds the models' own mjData, takes the axes of the largest
+  // model first: the budget may hold no other mjData of it (a 96-carton load's curve), and had the
+  // caller taken the start-up first, the curve would wait for it.
+  std::vector<std::size_t> by_size(order.size());
+  std::iota(by_size.begin(), by_size.end(), std::size_t{0});
+  auto bytes_of = [&](Axis axis) { return budget_bytes(*model_of(axis).simulator); };
+  std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
+    return bytes_of(tasks[order[a]].axis) > bytes_of(tasks[order[b]].axis);
+  });
+  // What the other axis threads take from the budget: an mjData for each axis but the caller's
+  // first, and one for the stop of a load that slips both ways. A probe run from the start takes
+  // only what is left after them: until session 24 the stop's check took its mjData first, and a
+  // 70-carton random pallet (one 234 MB model) left no room for a second axis thread: 99 s on one
+  // core.
+  std::int64_t for_threads = slips_both_ways ? bytes_of(Axis::decel) : 0;
+  for (std::size_t pos = 1; pos < by_size.size(); ++pos) {
+    for_threads += bytes_of(tasks[order[by_size[pos]]].axis);
+  }
   std::optional<Lookahead> stop_check;
   if (const std::optional<double> check = belt_check(tasks[1]);
-      slips_both_ways && ahead != nullptr && check && s.seed_with_closed_form) {
+      slips_both_ways && ahead != nullptr && check && s.seed_with_closed_form &&
+      cores.spare_bytes.load() - for_threads >= bytes_of(Axis::decel)) {
     const ProbeModel m = model_of(Axis::decel);
     stop_check.emplace(cores, m.simulator->scene(), budget_bytes(*m.simulator), *m.rest, o);
     stop_check->start(*check, false, *check, tasks[1].profile(*check), true);
@@ -1333,15 +1352,6 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     // search runs). The calling thread uses the models' simulators; the others make theirs within
     // the memory budget, and end when no axis is left that they can take.
     std::vector<bool> taken(order.size(), false);
-    // The calling thread, which alone holds the models' own mjData, takes the axes of the largest
-    // model first: the budget may hold no other mjData of it (a 96-carton load's curve), and had
-    // the caller taken the start-up first, the curve would wait for it.
-    std::vector<std::size_t> by_size(order.size());
-    std::iota(by_size.begin(), by_size.end(), std::size_t{0});
-    std::stable_sort(by_size.begin(), by_size.end(), [&](std::size_t a, std::size_t b) {
-      return budget_bytes(*model_of(tasks[order[a]].axis).simulator) >
-             budget_bytes(*model_of(tasks[order[b]].axis).simulator);
-    });
     auto work = [&](bool caller) {
       std::map<const Scene*, std::unique_ptr<Simulator>> own;
       std::int64_t reserved = 0;
