@@ -1106,9 +1106,6 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       (across_model.simulator == along_model.simulator ? 0 : budget_bytes(*across_model.simulator));
   // Probes run ahead on spare cores, with as many more mjData as the memory budget holds.
   Cores* ahead = s.speculate && k == 1 && s.axis_threads != 1 && cores.total > 1 ? &cores : nullptr;
-  // The stop of a load that slips both ways is checked below its pallet's onset whatever its
-  // start-up finds (mirrored from it, or searched from the check up or down): that probe runs from
-  // the start, beside the searches, for the stop's search to take.
   // The calling thread, which alone holds the models' own mjData, takes the axes of the largest
   // model first: the budget may hold no other mjData of it (a 96-carton load's curve), and had the
   // caller taken the start-up first, the curve would wait for it.
@@ -1127,6 +1124,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   for (std::size_t pos = 1; pos < by_size.size(); ++pos) {
     for_threads += bytes_of(tasks[order[by_size[pos]]].axis);
   }
+  // The stop of a load that slips both ways is checked below its pallet's onset whatever its
+  // start-up finds (mirrored from it, or searched from the check up or down): that probe runs from
+  // the start, beside the searches, for the stop's search to take.
   std::optional<Lookahead> stop_check;
   if (const std::optional<double> check = belt_check(tasks[1]);
       slips_both_ways && ahead != nullptr && check && s.seed_with_closed_form &&
