@@ -1269,12 +1269,11 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     }
     return guard_below_belt_onset(tasks[1], mirrored(up), searcher(simulator, rest));
   };
-  // Runs axis task i on its plane's model (on the model's own simulator), after the others.
-  auto search = [&](std::size_t i) {
-    const ProbeModel m = model_of(tasks[i].axis);
-    AxisOutcome a = capped(i, run_task(i, *m.simulator, *m.rest));
-    tell(tasks[i].axis, a);
-    return a;
+  // Searches axis task i on `simulator` (of its plane's model) from `rest` into outcomes[i], and
+  // tells of its limit.
+  auto search = [&](std::size_t i, Simulator& simulator, const RestState& rest) {
+    outcomes[i] = capped(i, run_task(i, simulator, rest));
+    tell(tasks[i].axis, outcomes[i]);
   };
   // The stop of a load that slips both ways follows its start-up on the same model and thread.
   // Where another thread took the stop once the start-up failed its check, nothing is left here.
@@ -1304,11 +1303,11 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
     if (mirror && tasks[i].axis == Axis::accel) {
       if (pulses(outcomes[i])) {
         outcomes[1] = mirrored(outcomes[i]);
+        tell(Axis::decel, outcomes[1]);
       } else {
         if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
-        outcomes[1] = capped(1, run_task(1, simulator, rest));
+        search(1, simulator, rest);
       }
-      tell(Axis::decel, outcomes[1]);
       stop_here = true;
     }
     stop_here = stop_here || tasks[i].axis == Axis::decel;
@@ -1323,8 +1322,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
       estop.limit->derived = true;
     } else {
       if (o.progress != nullptr) o.progress->plan(kProbesPerSearch);
-      estop = capped(3, run_task(3, simulator, rest));
-      tell(Axis::speed, estop);
+      search(3, simulator, rest);
     }
   };
   // After the start-up's thread is through with it (its stop searched, or the start-up unstable
@@ -1339,9 +1337,9 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   };
   if (threads <= 1) {
     for (std::size_t i : order) {
-      outcomes[i] = search(i);
-      if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
       const ProbeModel m = model_of(tasks[i].axis);
+      search(i, *m.simulator, *m.rest);
+      if (!outcomes[i].limit) break;  // unstable: the envelope fails; later axes would not help
       const bool stop_here = stop_after(i, *m.simulator, *m.rest);
       if (tasks[i].axis == Axis::accel && slips_both_ways && !outcomes[1].limit) break;
       derive_after(i, stop_here, *m.simulator, *m.rest);
@@ -1405,8 +1403,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
         try {  // an exception must not leave a thread (std::terminate): it fails its axis
           const ProbeModel m = model_of(tasks[i].axis);
           Simulator& simulator = simulator_for(*m.simulator);
-          outcomes[i] = capped(i, run_task(i, simulator, *m.rest));
-          tell(tasks[i].axis, outcomes[i]);
+          search(i, simulator, *m.rest);
           derive_after(i, stop_after(i, simulator, *m.rest), simulator, *m.rest);
         } catch (const std::exception& e) {
           // An axis that has its limit did not throw: what followed it did (derive_after), the
