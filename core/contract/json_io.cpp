@@ -376,6 +376,14 @@ class DuplicateKeys {
     return true;
   }
   const std::optional<std::string>& duplicate() const { return duplicate_; }
+  /// A JSON pointer to the value being read (the whole document before any).
+  std::string pointer() const {
+    std::string out;
+    for (const Frame& f : frames_) {
+      out = f.object ? member_pointer(out, f.key) : element_pointer(out, f.index);
+    }
+    return out;
+  }
 
  private:
   struct Frame {
@@ -386,13 +394,6 @@ class DuplicateKeys {
   };
   void element_done() {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
-  }
-  std::string pointer() const {
-    std::string out;
-    for (const Frame& f : frames_) {
-      out = f.object ? member_pointer(out, f.key) : element_pointer(out, f.index);
-    }
-    return out;
   }
   std::vector<Frame> frames_;
   std::optional<std::string> duplicate_;
@@ -407,8 +408,8 @@ Result<Json> parse_json(std::string_view text) {
                 " MB, the most that is read; a pallet of 400 items is about 0.3 MB: check that "
                 "this is the file you meant");
   }
+  DuplicateKeys duplicates;
   try {
-    DuplicateKeys duplicates;
     Json json = Json::parse(text, std::ref(duplicates));
     if (const auto& at = duplicates.duplicate()) {
       return Result<Json>::failure(*at,
@@ -431,6 +432,22 @@ Result<Json> parse_json(std::string_view text) {
     return Result<Json>::failure("", "the text is not valid JSON at byte " +
                                          std::to_string(e.byte) + ", " + detail +
                                          "; fix the syntax there");
+  } catch (const Json::out_of_range& e) {
+    // nlohmann's only out_of_range while parsing (406): a number beyond a double's range. The
+    // exception has no position, but the callback has seen the value's key or index.
+    if (e.id == 406) {
+      // "[json.exception.out_of_range.406] number overflow parsing '1e999'": the number itself.
+      std::string number = ascii(e.what());
+      if (const auto at = number.find('\''); at != std::string::npos) {
+        number = number.substr(at + 1, number.rfind('\'') - at - 1);
+      }
+      return Result<Json>::failure(duplicates.pointer(),
+                                   "the number " + number +
+                                       " is beyond what can be read (about 1.8e308); write the "
+                                       "value the field means, in its range");
+    }
+    return Result<Json>::failure(
+        "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");
   } catch (const Json::exception& e) {
     return Result<Json>::failure(
         "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");

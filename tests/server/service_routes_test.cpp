@@ -57,6 +57,14 @@ class ServiceRoutesTest : public QObject {
     QVERIFY(metrics->body.find("palletballet_request_duration_seconds_bucket") !=
             std::string::npos);
     QVERIFY(metrics->body.find("palletballet_queue_depth 0") != std::string::npos);
+    // HEAD is GET without its body (a load balancer's probe); a POST route still refuses it.
+    auto head = client_->Head("/healthz");
+    QVERIFY(head && head->status == 200);
+    QVERIFY(head->body.empty());
+    QVERIFY(head->get_header_value("Content-Type").starts_with("application/json"));
+    auto post_only = client_->Head("/v1/analyze");
+    QVERIFY(post_only && post_only->status == 405);
+    QCOMPARE(post_only->get_header_value("Allow"), std::string("POST"));
   }
 
   // The post: curl -s .../scenarios | jq -r '.[].slug'; .../scenarios/tall-unwrapped-tower | jq

@@ -418,6 +418,24 @@ class JsonIoTest : public QObject {
     QVERIFY(parse_json(R"({"a": {"k": 1}, "b": {"k": 2}, "c": [{"k": 1}, {"k": 2}]})").ok());
   }
 
+  // A number beyond a double's range cannot be read at all: nlohmann throws with no position, so
+  // the error names the field it was given for (a member's key, an array's index) and the number.
+  void aNumberBeyondADoubleIsRefusedAtItsPointer() {
+    const auto member = parse_json(R"({"items": [{"weight_kg": 6}, {"weight_kg": 1e999}]})");
+    QVERIFY(!member.ok());
+    QCOMPARE(member.diagnostics[0].pointer, std::string("/items/1/weight_kg"));
+    QVERIFY2(contains(member.diagnostics[0].message, "1e999"),
+             member.diagnostics[0].message.c_str());
+    const auto element = parse_json(R"({"base_dims_m": [1.2, -1e400, 0.15]})");
+    QVERIFY(!element.ok());
+    QCOMPARE(element.diagnostics[0].pointer, std::string("/base_dims_m/1"));
+    const auto top = parse_json("1e999");
+    QVERIFY(!top.ok());
+    QCOMPARE(top.diagnostics[0].pointer, std::string(""));
+    // An integer beyond 64 bits is read as a double, and the value's own check judges it.
+    QVERIFY(parse_json(R"({"weight_kg": 18446744073709551616})").ok());
+  }
+
   void canonicalTextIsSortedCompactAndExact() {
     const Json json = {{"b", 0.1 + 0.2}, {"a", Json::array({1, 2.0})}, {"c", nullptr}};
     QCOMPARE(to_canonical_text(json),
