@@ -113,6 +113,14 @@ Result<PreparedPallet*> Analyzer::prepare(const PalletConfig& config) {
     return Result<PreparedPallet*>{it->second.get(), {}};
   }
   const auto start = std::chrono::steady_clock::now();
+  // Refused before its model level is chosen: choosing finds what rests on what (quadratic where
+  // every item shares one footprint), and 20,000 cartons in one column took 80 s there before the
+  // scene refused their count. Standing is judged with the scene (build_scene).
+  ValidationLimits limits;
+  limits.check_standing = false;
+  if (Diagnostics bad = validate(config, limits); has_errors(bad)) {
+    return Result<PreparedPallet*>::failure(std::move(bad));
+  }
   FidelityChoice choice = fidelity_choice(config);
   // A reduced request that finds nothing to merge is the full model, at the full model's numerics.
   auto options_for = [&](const FidelityChoice& c) {

@@ -355,6 +355,36 @@ class AnalyzerTest : public QObject {
     QVERIFY(!analyzer.failure_map(config));
   }
 
+  // A pallet the validation refuses is refused before anything else looks at it: 20,000 cartons
+  // in one column (every pair in one footprint, so finding what rests on what is quadratic) took
+  // 80 s in the model level's choice before the scene refused their count, in each of analyze,
+  // solve and map. Here each call gets the one error naming the limit (and under QtTest's
+  // per-function timeout).
+  void anInvalidPalletIsRefusedBeforeItsModelIsChosen() {
+    PalletConfig config = column();
+    const Item carton = config.items[0];
+    config.items.clear();
+    for (int i = 0; i < 20000; ++i) {
+      config.items.push_back(carton);
+      config.items.back().position[2] = config.base_dims_m[2] + i * carton.dims_m[2];
+    }
+    Analyzer analyzer(AnalyzerOptions{}, friction());
+    auto only_the_count = [](const Diagnostics& d) {
+      const Diagnostics errors = errors_of(d);
+      return errors.size() == 1 && errors[0].pointer == "/items" &&
+             errors[0].message.find("400") != std::string::npos;
+    };
+    const auto analysed = analyzer.analyze(config);
+    QVERIFY(!analysed);
+    QVERIFY2(only_the_count(analysed.diagnostics), describe(analysed.diagnostics).c_str());
+    const auto solved = analyzer.solve(config, hard_start());
+    QVERIFY(!solved);
+    QVERIFY2(only_the_count(solved.diagnostics), describe(solved.diagnostics).c_str());
+    const auto map = analyzer.failure_map(config);
+    QVERIFY(!map);
+    QVERIFY2(only_the_count(map.diagnostics), describe(map.diagnostics).c_str());
+  }
+
   // SearchConfig::confirm_limits: every limit a search reports (not derived, not at the floor)
   // was run along the second numerical path too and held there; a value that failed along it is
   // above the limit; confirmation only lowers limits; and without it no probe is a confirmation.
