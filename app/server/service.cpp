@@ -1021,7 +1021,7 @@ std::optional<Response> Service::query_problem(const Request& request, const Rou
 Response Service::dispatch(const Request& request, std::string& route) {
   // HEAD is GET without the body (the HTTP layer sends the headers only): a monitor's HEAD
   // /healthz is answered as its GET.
-  const std::string& method = request.method == "HEAD" ? "GET" : request.method;
+  const std::string method = request.method == "HEAD" ? "GET" : request.method;
   std::vector<std::string> allowed;
   for (const auto& r : routes_) {
     Params params;

@@ -432,9 +432,9 @@ Result<Json> parse_json(std::string_view text) {
     return Result<Json>::failure("", "the text is not valid JSON at byte " +
                                          std::to_string(e.byte) + ", " + detail +
                                          "; fix the syntax there");
-  } catch (const Json::out_of_range& e) {
-    // nlohmann's only out_of_range while parsing (406): a number beyond a double's range. The
-    // exception has no position, but the callback has seen the value's key or index.
+  } catch (const Json::exception& e) {
+    // A number beyond a double's range (nlohmann's out_of_range 406) has no position in the
+    // exception, but the callback has seen the value's key or index.
     if (e.id == 406) {
       // "[json.exception.out_of_range.406] number overflow parsing '1e999'": the number itself.
       std::string number = ascii(e.what());
@@ -446,9 +446,6 @@ Result<Json> parse_json(std::string_view text) {
                                        " is beyond what can be read (about 1.8e308); write the "
                                        "value the field means, in its range");
     }
-    return Result<Json>::failure(
-        "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");
-  } catch (const Json::exception& e) {
     return Result<Json>::failure(
         "", "the text could not be read as JSON (" + ascii(e.what()) + "); fix the document");
   }
