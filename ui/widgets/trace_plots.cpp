@@ -10,6 +10,7 @@
 #include <QValueAxis>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace pb::ui {
 
@@ -26,6 +27,21 @@ constexpr QuantityInfo kInfo[TracePlots::kQuantities] = {
     {"Load shift (item-to-item)", "cm", "load shift"},
     {"Pallet slip on the belt", "cm", "slip"},
 };
+
+// The smallest round interval (1, 2 or 5 x 10^k) at least `raw`.
+double round_step(double raw) {
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
+// A label format with as many decimals as `step` needs.
+QString label_format(double step) {
+  if (step >= 1.0) return QStringLiteral("%.0f");
+  return step >= 0.1 ? QStringLiteral("%.1f") : QStringLiteral("%.2f");
+}
 
 }  // namespace
 
@@ -99,6 +115,7 @@ TracePlots::TracePlots(QWidget* parent) : QWidget(parent) {
 }
 
 bool TracePlots::eventFilter(QObject* watched, QEvent* event) {
+  if (event->type() == QEvent::Resize) fitTicks();  // a plot's viewport: its labels refit
   const bool press = event->type() == QEvent::MouseButtonPress;
   const bool drag = event->type() == QEvent::MouseMove;
   if (press || drag) {
@@ -139,7 +156,7 @@ void TracePlots::clear() {
     _thresholds[q]->clear();
     _cursors[q]->clear();
     _curves[q] = Curve{};
-    _yMax[q] = 1.0;
+    _yNeed[q] = 1.0;
   }
   _tStart = 0.0;
   _tEnd = 1.0;
@@ -167,20 +184,9 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
     _series[q]->replace(points);
     _thresholds[q]->append(_tStart, c.threshold);
     _thresholds[q]->append(_tEnd, c.threshold);
-    _yMax[q] = std::max(1.25 * c.threshold, 1.05 * peak);
-    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Horizontal)) {
-      auto* x = static_cast<QValueAxis*>(axis);
-      x->setRange(_tStart, _tEnd);
-      x->setLabelFormat(_tEnd - _tStart < 2.0 ? QStringLiteral("%.2f") : QStringLiteral("%.1f"));
-    }
-    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
-      auto* y = static_cast<QValueAxis*>(axis);
-      y->setRange(0.0, _yMax[q]);
-      y->applyNiceNumbers();  // round ticks; the range may grow a little
-      _yMax[q] = y->max();
-    }
+    _yNeed[q] = std::max(1.25 * c.threshold, 1.05 * peak);
   }
-  fitTicks();
+  fitTicks();  // the axes' ranges and ticks
   setCursorTime(_tStart);
 }
 
@@ -190,29 +196,40 @@ void TracePlots::resizeEvent(QResizeEvent* event) {
 }
 
 void TracePlots::fitTicks() {
-  // As many y labels as the plot's height holds without one overlapping the next (Qt Charts
-  // elides overlapping labels to "..."), at a round interval (1, 2 or 5 x 10^k) from zero.
-  const double label = 1.8 * fontMetrics().height();
+  // As many labels as the plot holds without one overlapping the next (Qt Charts elides
+  // overlapping labels to "..."), at a round interval (1, 2 or 5 x 10^k) from zero: y labels a
+  // line apart, time labels about six characters apart. The plot's size is reckoned from its
+  // view's, which the layout has set by now, less the title, the axes' labels and titles: the
+  // chart's own plotArea() is laid out later, so a fit from it lagged a resize and left the labels
+  // of the size before crowded and elided (the console's screenshot, session 24).
+  const QFontMetrics font = fontMetrics();
+  const double label_height = 1.8 * font.height();
+  const double label_width = 6.0 * font.averageCharWidth();
   for (int q = 0; q < kQuantities; ++q) {
-    const double height = _charts[q]->plotArea().height() > 0.0 ? _charts[q]->plotArea().height()
-                                                                : this->height() / 2.0 - 60.0;
-    const int fit = std::max(2, static_cast<int>(height / label) + 1);
-    const double raw = _yMax[q] / (fit - 1);
-    const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-    double step = 10.0 * decade;
-    for (const double m : {1.0, 2.0, 5.0}) {
-      if (m * decade >= raw) {
-        step = m * decade;
-        break;
+    if (_views[q] == nullptr) continue;  // still being built
+    const QSize view = _views[q]->viewport()->size();
+    const double height = view.height() - 4.5 * font.height();
+    const double width = view.width() - 6.0 * font.averageCharWidth() - 2.0 * font.height();
+    const int rows = std::max(2, static_cast<int>(height / label_height) + 1);
+    const int columns = std::max(2, static_cast<int>(width / label_width) + 1);
+    const double y_step = round_step(_yNeed[q] / (rows - 1));
+    const double t_step = round_step((_tEnd - _tStart) / (columns - 1));
+    _yMax[q] = y_step * std::ceil(_yNeed[q] / y_step - 1e-9);  // the top tick
+    // The interval first, then the range: Qt Charts lays out an axis's labels again when its range
+    // changes, but a new interval alone was drawn with the labels of the old one until the next
+    // layout (the elided labels of the console's screenshot).
+    for (auto [orientation, step, lo, hi] : {std::tuple{Qt::Vertical, y_step, 0.0, _yMax[q]},
+                                             std::tuple{Qt::Horizontal, t_step, _tStart, _tEnd}}) {
+      for (QAbstractAxis* axis : _charts[q]->axes(orientation)) {
+        auto* a = static_cast<QValueAxis*>(axis);
+        a->setTickType(QValueAxis::TicksDynamic);
+        a->setTickAnchor(0.0);
+        a->setTickInterval(step);
+        a->setLabelFormat(label_format(step));
+        a->setRange(lo, hi);
       }
     }
-    for (QAbstractAxis* axis : _charts[q]->axes(Qt::Vertical)) {
-      auto* y = static_cast<QValueAxis*>(axis);
-      y->setTickType(QValueAxis::TicksDynamic);
-      y->setTickAnchor(0.0);
-      y->setTickInterval(step);
-      y->setLabelFormat(step >= 1.0 ? QStringLiteral("%.0f") : QStringLiteral("%.1f"));
-    }
+    _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
   }
 }
 

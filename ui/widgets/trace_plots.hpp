@@ -77,7 +77,7 @@ class TracePlots : public QWidget {
   bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
-  /// The y axes' tick interval for the plots' current height (no overlapping, elided labels).
+  /// The axes' tick intervals for the plots' current size (no overlapping, elided labels).
   void fitTicks();
 
   std::array<QChart*, kQuantities> _charts{};
@@ -87,7 +87,8 @@ class TracePlots : public QWidget {
   std::array<QChartView*, kQuantities> _views{};
   std::array<Curve, kQuantities> _curves{};
   QLabel* _readout = nullptr;
-  std::array<double, kQuantities> _yMax{};
+  std::array<double, kQuantities> _yNeed{};  ///< the height a curve and its threshold need
+  std::array<double, kQuantities> _yMax{};   ///< the y axis's top: _yNeed up to a round tick
   double _tStart = 0.0, _tEnd = 1.0;
   double _cursorT = 0.0;
 };

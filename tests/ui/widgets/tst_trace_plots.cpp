@@ -12,6 +12,7 @@
 #include <QLineSeries>
 #include <QMouseEvent>
 #include <QSignalSpy>
+#include <QValueAxis>
 #include <QtTest>
 #include <cmath>
 #include <numbers>
@@ -200,6 +201,21 @@ class TestTracePlots : public QObject {
       }
     }
     QVERIFY2(elided.isEmpty(), qPrintable(elided.join(QStringLiteral(" | "))));
+    // Time is labelled at a round interval (1, 2 or 5 x 10^k s) from zero, at least three labels
+    // across the run (Qt's default five ticks put them at quarters of the run: 0.29, 0.59, ...).
+    for (int q = 0; q < TracePlots::kQuantities; ++q) {
+      for (QAbstractAxis* axis : plots.chart(TracePlots::Quantity(q))->axes(Qt::Horizontal)) {
+        const auto* x = static_cast<QValueAxis*>(axis);
+        QCOMPARE(x->tickType(), QValueAxis::TicksDynamic);
+        QCOMPARE(x->tickAnchor(), 0.0);
+        const double mantissa =
+            x->tickInterval() / std::pow(10.0, std::floor(std::log10(x->tickInterval())));
+        QVERIFY2(std::abs(mantissa - 1.0) < 1e-9 || std::abs(mantissa - 2.0) < 1e-9 ||
+                     std::abs(mantissa - 5.0) < 1e-9,
+                 qPrintable(QString::number(x->tickInterval())));
+        QVERIFY((x->max() - x->min()) / x->tickInterval() >= 2.0);
+      }
+    }
   }
 
   void aRealFailureCrossesItsThresholdAtTheEnd() {
