@@ -161,6 +161,7 @@ void TracePlots::clear() {
   _tStart = 0.0;
   _tEnd = 1.0;
   _cursorT = 0.0;
+  fitTicks();
   _readout->setText(tr("No replay: dispatch the pallet or open a replay to see its traces."));
 }
 
@@ -199,9 +200,8 @@ void TracePlots::fitTicks() {
   // As many labels as the plot holds without one overlapping the next (Qt Charts elides
   // overlapping labels to "..."), at a round interval (1, 2 or 5 x 10^k) from zero: y labels a
   // line apart, time labels about six characters apart. The plot's size is reckoned from its
-  // view's, which the layout has set by now, less the title, the axes' labels and titles: the
-  // chart's own plotArea() is laid out later, so a fit from it lagged a resize and left the labels
-  // of the size before crowded and elided (the console's screenshot, session 24).
+  // view's, which the layout has set by now, less the title, the axes' labels and titles (the
+  // chart's own plotArea() is laid out later, and lags a resize).
   const QFontMetrics font = fontMetrics();
   const double label_height = 1.8 * font.height();
   const double label_width = 6.0 * font.averageCharWidth();
@@ -229,7 +229,9 @@ void TracePlots::fitTicks() {
         a->setRange(lo, hi);
       }
     }
-    _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
+    if (!_curves[q].t.empty()) {
+      _cursors[q]->replace(QList<QPointF>{{_cursorT, 0.0}, {_cursorT, _yMax[q]}});
+    }
   }
 }
 
