@@ -15,6 +15,7 @@
 #include "app/server/bench.hpp"
 #include "app/server/http_server.hpp"
 #include "app/server/service.hpp"
+#include "core/inputs/validation.hpp"
 
 #ifndef PB_VERSION
 #define PB_VERSION "unknown"
@@ -65,8 +66,12 @@ int main(int argc, char** argv) {
   app.add_option("--max-body", service.max_body_bytes, "largest request body, bytes (413 above)")
       ->check(CLI::Range(std::size_t(1024), std::size_t(1) << 30))
       ->capture_default_str();
-  app.add_option("--max-items", service.max_items, "most items in one pallet (413 above)")
-      ->check(CLI::Range(std::size_t(1), std::size_t(100000)))
+  // Above the validation's limit a pallet is refused whatever this says (422, not 413).
+  const std::size_t most_items = pb::ValidationLimits{}.max_items;
+  app.add_option("--max-items", service.max_items,
+                 "most items in one pallet (413 above); at most " + std::to_string(most_items) +
+                     ", the most a pallet is validated with")
+      ->check(CLI::Range(std::size_t(1), most_items))
       ->capture_default_str();
   app.add_option("--max-batch", service.max_batch, "most pallets in one /safety/batch (413 above)")
       ->check(CLI::Range(std::size_t(1), std::size_t(100000)))

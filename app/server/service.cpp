@@ -146,7 +146,8 @@ std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
     return error_response(
         413,
         "the pallet has " + std::to_string(it->size()) + " items; this service analyses at most " +
-            std::to_string(max_items) + " (--max-items); split the load or ask for a larger limit",
+            std::to_string(max_items) + " (--max-items); split the load" +
+            (max_items < ValidationLimits{}.max_items ? " or ask for a larger limit" : ""),
         {{prefix + "/items", "at most " + std::to_string(max_items) + " items", Severity::error}});
   }
   auto pallet = pallet_from_json(json, prefix);
