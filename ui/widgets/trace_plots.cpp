@@ -115,7 +115,8 @@ TracePlots::TracePlots(QWidget* parent) : QWidget(parent) {
 }
 
 bool TracePlots::eventFilter(QObject* watched, QEvent* event) {
-  if (event->type() == QEvent::Resize) fitTicks();  // a plot's viewport: its labels refit
+  // A plot's viewport resized (after the layout, so its size is the new one): the labels refit.
+  if (event->type() == QEvent::Resize) fitTicks();
   const bool press = event->type() == QEvent::MouseButtonPress;
   const bool drag = event->type() == QEvent::MouseMove;
   if (press || drag) {
@@ -189,11 +190,6 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
   }
   fitTicks();  // the axes' ranges and ticks
   setCursorTime(_tStart);
-}
-
-void TracePlots::resizeEvent(QResizeEvent* event) {
-  QWidget::resizeEvent(event);
-  fitTicks();
 }
 
 void TracePlots::fitTicks() {

@@ -73,7 +73,6 @@ class TracePlots : public QWidget {
   void clear();
 
  protected:
-  void resizeEvent(QResizeEvent* event) override;
   bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
