@@ -28,6 +28,11 @@ constexpr QuantityInfo kInfo[TracePlots::kQuantities] = {
     {"Pallet slip on the belt", "cm", "slip"},
 };
 
+// A plot's y axis reaches this many times its threshold at most: a wreck (a carton that fell off
+// travels metres) would otherwise squash the approach to the threshold, which is what a failure's
+// replay is read for, into the bottom pixel. The readout gives the values beyond it.
+constexpr double kOffScale = 4.0;
+
 // The smallest round interval (1, 2 or 5 x 10^k) at least `raw`.
 double round_step(double raw) {
   const double decade = std::pow(10.0, std::floor(std::log10(raw)));
@@ -158,6 +163,7 @@ void TracePlots::clear() {
     _cursors[q]->clear();
     _curves[q] = Curve{};
     _yNeed[q] = 1.0;
+    _peak[q] = 0.0;
   }
   _tStart = 0.0;
   _tEnd = 1.0;
@@ -186,7 +192,8 @@ void TracePlots::setReplay(const Replay& replay, const DetectorThresholds& thres
     _series[q]->replace(points);
     _thresholds[q]->append(_tStart, c.threshold);
     _thresholds[q]->append(_tEnd, c.threshold);
-    _yNeed[q] = std::max(1.25 * c.threshold, 1.05 * peak);
+    _yNeed[q] = std::max(1.25 * c.threshold, 1.05 * std::min(peak, kOffScale * c.threshold));
+    _peak[q] = peak;
   }
   fitTicks();  // the axes' ranges and ticks
   setCursorTime(_tStart);
@@ -245,8 +252,18 @@ void TracePlots::setCursorTime(double t_s) {
                  .arg(tr(kInfo[q].unit))
                  .arg(_curves[q].threshold, 0, 'g', 3);
   }
+  QStringList off;
+  for (int q = 0; q < kQuantities; ++q) {
+    if (_peak[q] > _yMax[q]) {
+      off << tr("%1 up to %2 %3")
+                 .arg(tr(kInfo[q].readout))
+                 .arg(_peak[q], 0, 'f', 0)
+                 .arg(tr(kInfo[q].unit));
+    }
+  }
   _readout->setText(
-      tr("At %1 s: %2").arg(_cursorT, 0, 'f', 3).arg(parts.join(QStringLiteral("; "))));
+      tr("At %1 s: %2.").arg(_cursorT, 0, 'f', 3).arg(parts.join(QStringLiteral("; "))) +
+      (off.isEmpty() ? QString() : tr(" Off scale: %1.").arg(off.join(QStringLiteral(", ")))));
 }
 
 QByteArray TracePlots::csv(const pb::Replay& replay, const pb::DetectorThresholds& thresholds) {

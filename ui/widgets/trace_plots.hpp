@@ -3,8 +3,10 @@
 // displacement on the pallet, the load shift (largest change of an item-to-item distance) and the
 // pallet's slip on the belt, against time, each with its detector threshold as a dashed red line
 // and a vertical cursor line at the replay time, and under them a readout of every quantity at the
-// cursor. Measured with core/physics/detectors.hpp on the replay's frames, the first frame being
-// the rest state (as the detectors' baselines). A click or a drag on a plot asks for its time.
+// cursor. A plot reaches four times its threshold at most (a wreck leaves its top; the readout says
+// how far it went). Measured with core/physics/detectors.hpp on the replay's frames, the first
+// frame being the rest state (as the detectors' baselines). A click or a drag on a plot asks for
+// its time.
 //
 // Wiring (MainWindow):
 //   AnalysisService::solved(solve) / a replay file opened -> setReplay(replay)
@@ -88,6 +90,7 @@ class TracePlots : public QWidget {
   QLabel* _readout = nullptr;
   std::array<double, kQuantities> _yNeed{};  ///< the height a curve and its threshold need
   std::array<double, kQuantities> _yMax{};   ///< the y axis's top: _yNeed up to a round tick
+  std::array<double, kQuantities> _peak{};   ///< a curve's largest value (above _yMax: off scale)
   double _tStart = 0.0, _tEnd = 1.0;
   double _cursorT = 0.0;
 };

@@ -14,6 +14,7 @@
 #include <QSignalSpy>
 #include <QValueAxis>
 #include <QtTest>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -263,6 +264,19 @@ class TestTracePlots : public QObject {
     plots.resize(800, 520);
     plots.setReplay(replay);
     plots.setCursorTime(event.time_s);
+    // The wreck after the failure (the carton falls off and stays behind: metres) does not set the
+    // scale: the threshold stays in view with room above it, the curve leaves the top, and the
+    // readout says how far it went.
+    const double peak = *std::max_element(c.value.begin(), c.value.end());
+    QVERIFY2(peak > 20.0 * c.threshold, qPrintable(QString::number(peak)));
+    const auto* y = static_cast<QValueAxis*>(plots.chart(q)->axes(Qt::Vertical).first());
+    QVERIFY(y->max() >= 1.25 * c.threshold);
+    QVERIFY2(y->max() <= 10.0 * c.threshold, qPrintable(QString::number(y->max())));
+    const QString unit = q == TracePlots::Tilt ? QStringLiteral(" deg") : QStringLiteral(" cm");
+    QVERIFY2(plots.readout().contains(QStringLiteral("Off scale: ")) &&
+                 plots.readout().contains(QStringLiteral("up to ") + QString::number(peak, 'f', 0) +
+                                          unit),
+             qPrintable(plots.readout()));
     QVERIFY(QDir().mkpath(QStringLiteral(PB_TEST_ARTIFACTS_DIR)));
     QVERIFY(plots.grab().save(QStringLiteral(PB_TEST_ARTIFACTS_DIR "/panel_trace_plots.png")));
   }
