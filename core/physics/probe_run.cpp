@@ -371,11 +371,28 @@ double ProbeRun::creep_reach(double span) const {
                           spin * 180.0 / std::numbers::pi / t.tip_deg});
 }
 
-void ProbeRun::shift(Pose& p, std::size_t body) const {
-  p.pos[0] += skip_dx_;
-  p.pos[1] += skip_dy_;
+Trace::BeltState ProbeRun::jumped(const Trace::BeltState& belt, int j) const {
+  // Semi-implicit Euler moves the belt by dt v(t0 + i dt) in its i-th step, the command affine
+  // in time: j dt v0 + dv/n dt j(j+1)/2 over the first j of n steps (skip_dx_ at j = n).
+  const double share = double(j) / double(skip_n_);
+  const double ramp = 0.5 * (j + 1) * dt_ * share;
+  return {belt.x + (j * dt_ * skip_v0x_ + skip_dvx_ * ramp),
+          belt.y + (j * dt_ * skip_v0y_ + skip_dvy_ * ramp), belt.vx + skip_dvx_ * share,
+          belt.vy + skip_dvy_ * share};
+}
+
+void ProbeRun::shift(Pose& p, std::size_t body, int j) const {
+  // The poses read after a step are where the step started (mj_step's kinematics come before its
+  // integration; the belt is read from qpos, where it ended), so a body's pose j steps into the
+  // jump is the one j - 1 steps in: carried by the first j - 1 steps' travel and the one before
+  // the jump, dt v0. Moved by the belt's own j steps, the load lagged its belt by dt v0 over the
+  // whole jump and by dt v1 in the step after it: a ramp's jump put a step of dt (v1 - v0) into
+  // the trace's slip and its pallet velocity.
+  const double ramp = 0.5 * (j - 1) * dt_ * (double(j) / double(skip_n_));
+  p.pos[0] += j * dt_ * skip_v0x_ + skip_dvx_ * ramp;
+  p.pos[1] += j * dt_ * skip_v0y_ + skip_dvy_ * ramp;
   if (!skip_creep_) return;
-  const double span = skip_n_ * dt_;
+  const double span = j * dt_;
   const double* v = creep_v_.data() + 6 * body;
   for (std::size_t c = 0; c < 3; ++c) p.pos[c] += v[c] * span;
   mju_quatIntegrate(p.quat.data(), v + 3, span);
@@ -599,20 +616,33 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       skip_dy_ = n * dt_ * v0y + (v1y - v0y) * sum;
       skip_dvx_ = v1x - v0x;
       skip_dvy_ = v1y - v0y;
+      skip_v0x_ = v0x;
+      skip_v0y_ = v0y;
       skip_n_ = n;
       k_ = k + n;
       r_.steps = k_;
       r_.sim_time_s = t1;
       r_.steps_skipped += n;
+      r_.jumps.push_back({k, n});
       r_.skipped_s += n * dt_;
       // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
       // under the belt's rigid motion: the detector is run for consistency, not for news).
+      // The trace gets every skipped step's frame, as stepping would have recorded it: what reads
+      // it interpolates between frames (replays, the reference API's trace), and across one
+      // frame at the jump's end it drew the belt's ramp as a straight line and the pallet
+      // outrunning its belt.
+      for (int j = 1; o_.record_trace && j < n; ++j) {
+        Pose pallet_j = pallet;
+        shift(pallet_j, 0, j);
+        jumped_items_ = items_;
+        for (std::size_t i = 0; i < items_.size(); ++i) shift(jumped_items_[i], i + 1, j);
+        r_.trace.push((k + j) * dt_, jumped(belt, j), pallet_j, jumped_items_);
+      }
       Pose pallet1 = pallet;
-      shift(pallet1, 0);
-      for (std::size_t i = 0; i < items_.size(); ++i) shift(items_[i], i + 1);
+      shift(pallet1, 0, n);
+      for (std::size_t i = 0; i < items_.size(); ++i) shift(items_[i], i + 1, n);
       creep_steps_ = 0;
-      const Trace::BeltState belt1{belt.x + skip_dx_, belt.y + skip_dy_, belt.vx + skip_dvx_,
-                                   belt.vy + skip_dvy_};
+      const Trace::BeltState belt1 = jumped(belt, n);
       if (o_.record_trace) r_.trace.push(t1, belt1, pallet1, items_);
       DetectorReadings at_end;
       if (auto event = detect(t1, belt1, pallet1, at_end)) {

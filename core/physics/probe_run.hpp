@@ -146,9 +146,11 @@ class ProbeRun {
   std::optional<double> slip_certain(const mjModel& m, const mjData& d, double t, double slip);
   // The most the creep (creep_v_) can add to any detector's reading over its threshold in `span`.
   double creep_reach(double span) const;
-  // Moves `p`, the pose of body `body` (0 the pallet, then the items), by the pending jump: the
-  // belt's travel, and the creep's when the jump carries it.
-  void shift(Pose& p, std::size_t body) const;
+  // The belt's state `j` steps into the pending jump (of skip_n_), from `belt` where it starts.
+  Trace::BeltState jumped(const Trace::BeltState& belt, int j) const;
+  // Moves `p`, the pose of body `body` (0 the pallet, then the items), by the first `j` steps of
+  // the pending jump: the belt's travel, and the creep's when the jump carries it.
+  void shift(Pose& p, std::size_t body, int j) const;
   // Updates the detector with the item poses in items_ at time t, and the peak ratio with its
   // readings; the failure it found, if any.
   std::optional<FailureEvent> detect(double t, const Trace::BeltState& belt, const Pose& pallet,
@@ -180,6 +182,7 @@ class ProbeRun {
   std::size_t phase_ = 0;
   int dwell_needed_ = 1, dwell_steps_ = 0, skip_n_ = 0;
   double skip_dx_ = 0.0, skip_dy_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
+  double skip_v0x_ = 0.0, skip_v0y_ = 0.0;  // the command where the pending jump starts
   // The creep window: each body's velocity relative to the belt at its start and at the last step
   // (6 a body, the pallet first, then the items: linear in the world frame, angular in the body's,
   // as in qvel), and the steps it has lasted; a pending jump that carries the creep (skip_creep_)
@@ -197,6 +200,7 @@ class ProbeRun {
   int affine_phase_ = -1;
   bool done_ = false;
   std::vector<Pose> items_;
+  std::vector<Pose> jumped_items_;       // the items' poses within a jump, for the trace
   std::optional<TurningFrame> turning_;  ///< a curve's: the belt's frame turns with it
 };
 

@@ -140,9 +140,16 @@ struct SimResult {
   /// How near the run came to failing: the largest reading of any detector over its threshold
   /// (tilt over tip_deg, slide over item_slide_m, ...), the largest over the run; >= 1 once failed.
   double peak_ratio = 0.0;
-  int steps = 0;               ///< profile steps reached (stepped + skipped)
-  int steps_skipped = 0;       ///< of `steps`, jumped analytically (skip_comoving)
-  double skipped_s = 0.0;      ///< profile time jumped analytically
+  int steps = 0;           ///< profile steps reached (stepped + skipped)
+  int steps_skipped = 0;   ///< of `steps`, jumped analytically (skip_comoving)
+  double skipped_s = 0.0;  ///< profile time jumped analytically
+  /// Each jump, in order: the step it starts after and the steps it jumped. The trace holds a
+  /// frame for every step of it all the same (the belt's motion, and the load carried with it).
+  struct Jump {
+    int after_step = 0;
+    int steps = 0;
+  };
+  std::vector<Jump> jumps;
   double sim_time_s = 0.0;     ///< profile time reached
   bool stopped_early = false;  ///< co-moving after the last breakpoint: nothing could change
   double wall_ms = 0.0;

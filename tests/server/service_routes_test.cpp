@@ -192,6 +192,37 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(body_of(bad)["errors"][0]["pointer"], "/profile/accel_mps2");
   }
 
+  // A load that rides its belt's ramp is jumped over by the simulation (co-moving skip), and the
+  // trace still shows the ramp: the conveyor's velocity is a t at every frame, the pallet's
+  // matches it and the replay's belt travel is a t^2 / 2 (across one jump they were a held value,
+  // a mean and a straight line: the pallet outran its belt).
+  void aRideTheSimulationJumpsIsTracedAsTheRamp() {
+    const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
+    const double a = 2.0, v = 1.0;
+    const std::string req = R"({"pallet": )" + pallet +
+                            R"(, "profile": {"shape": "accel_hold", "target_speed_mps": 1.0,
+            "accel_mps2": 2.0}, "include_replay": true})";
+    const Json s = body_of(client_->Post("/solve", req, kJson));
+    QCOMPARE(s["outcome"], "safe");
+    const Json& t = s["trace"];
+    const Json& r = s["replay"];
+    QVERIFY(s["n_steps_simulated"].get<double>() < 0.5 * t["times_s"].back().get<double>() / 1e-3);
+    for (std::size_t k = 0; k < t["times_s"].size(); ++k) {
+      const double time = t["times_s"][k], conveyor = t["conveyor_vel_mps"][k];
+      const double ramp = std::min(v, a * time);
+      QVERIFY2(std::abs(conveyor - ramp) < 0.01 + 2.0 * a * 2e-3,
+               qPrintable(QString("t %1: conveyor %2").arg(time).arg(conveyor)));
+      QVERIFY2(
+          std::abs(t["pallet_vel_x_mps"][k].get<double>() - conveyor) < 0.05,
+          qPrintable(
+              QString("t %1: pallet %2").arg(time).arg(t["pallet_vel_x_mps"][k].get<double>())));
+      const double travel = time <= v / a ? 0.5 * a * time * time : v * (time - 0.5 * v / a);
+      QVERIFY2(
+          std::abs(r["belt_disp_m"][k].get<double>() - travel) < 0.005,
+          qPrintable(QString("t %1: belt %2").arg(time).arg(r["belt_disp_m"][k].get<double>())));
+    }
+  }
+
   // The post: POST /safety/analyze (a pallet) | jq .result; POST /safety/batch [P, P] ->
   // sims_run [n, 0]. The answer is the core's, as an Analyzer in this process gives it.
   void analyze_and_batch_share_the_cache() {

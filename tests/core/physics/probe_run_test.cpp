@@ -261,16 +261,16 @@ class ProbeRunTest : public QObject {
     QVERIFY2(a.steps_skipped > a.steps / 2, qPrintable(QString::number(a.steps_skipped)));
     QVERIFY2(std::abs(a.peak_ratio - b.peak_ratio) < 0.005,
              qPrintable(QString("%1 vs %2").arg(a.peak_ratio).arg(b.peak_ratio)));
-    // The jump's end: the first frame after a gap; full stepping's frame at the same time.
-    std::size_t end = 1;
-    while (end < a.trace.size() && a.trace.time(end) - a.trace.time(end - 1) < 1.5e-3) ++end;
+    // The first jump's end; full stepping's frame at the same time.
+    QVERIFY(!a.jumps.empty());
+    const std::size_t end = std::size_t(a.jumps.front().after_step + a.jumps.front().steps);
     QVERIFY(end < a.trace.size());
     const auto frame_at = [](const SimResult& r, double t) {
       std::size_t f = 0;
       while (f < r.trace.size() && r.trace.time(f) < t - 1e-9) ++f;
       return f;
     };
-    const std::size_t from = frame_at(b, a.trace.time(end - 1)),
+    const std::size_t from = frame_at(b, a.trace.time(std::size_t(a.jumps.front().after_step))),
                       to = frame_at(b, a.trace.time(end));
     QVERIFY(to < b.trace.size() && std::abs(b.trace.time(to) - a.trace.time(end)) < 1e-9);
     double worst = 0.0, crept = 0.0;
@@ -299,9 +299,10 @@ class ProbeRunTest : public QObject {
   }
 
   // The jump: an e-stop probe from speed skips its steady lead-in only after the dwell and stops
-  // one step short of the breakpoint; the trace holds the jump's endpoint, the belt and the pallet
-  // moved by the constant-speed travel v t (closed form) and the load did not move on the pallet.
-  // The EUMOS rise (quadratic velocity) is never skipped.
+  // one step short of the breakpoint; the trace holds a frame for every step, the belt and the
+  // pallet moved by the constant-speed travel v t (closed form) and the load did not move on the
+  // pallet; within a jump over the ramp down each frame's belt is where stepping puts it, at the
+  // commanded velocity. The EUMOS rise (quadratic velocity) is never skipped.
   void jumpIsTheBeltsRigidMotion() {
     auto r = rig();
     ConveyorProfile profile = decel_probe_profile(1.0, 1.5, {});
@@ -313,11 +314,35 @@ class ProbeRunTest : public QObject {
     QVERIFY(s.steps_skipped > 0);
     QVERIFY(std::abs(s.skipped_s - s.steps_skipped * dt) < 1e-9);
     const std::vector<double> breakpoints = profile.breakpoints();
-    int gaps = 0, lead_in_gaps = 0;
-    for (std::size_t i = 1; i < s.trace.size(); ++i) {
-      const double t0 = s.trace.time(i - 1), t1 = s.trace.time(i);
-      if (t1 - t0 < 1.5 * dt) continue;
+    QCOMPARE(s.trace.size(), std::size_t(s.steps) + 1);
+    int gaps = 0, lead_in_gaps = 0, ramp_frames = 0;
+    for (const SimResult::Jump& jump : s.jumps) {
+      const auto i0 = std::size_t(jump.after_step), i = i0 + std::size_t(jump.steps);
+      const double t0 = s.trace.time(i0), t1 = s.trace.time(i);
+      QVERIFY(std::abs(t1 - t0 - jump.steps * dt) < 1e-9);
       ++gaps;
+      // Every frame within it: the belt where stepping puts it, at its command's velocity, and the
+      // pallet carried with it as stepping reads it (where the step started: a step behind).
+      double travel = 0.0, carried = 0.0;
+      for (std::size_t f = i0 + 1; f <= i; ++f) {
+        const double t = s.trace.time(f);
+        QVERIFY(std::abs(t - t0 - double(f - i0) * dt) < 1e-9);
+        travel += dt * profile.velocity_at(t);
+        carried += dt * profile.velocity_at(t - dt);
+        QVERIFY(std::abs(s.trace.belt(f).x - s.trace.belt(i0).x - travel) < 1e-9);
+        QVERIFY(std::abs(s.trace.belt(f).vx - s.trace.belt(i0).vx -
+                         (profile.velocity_at(t) - profile.velocity_at(t0))) < 1e-9);
+        QVERIFY(std::abs(s.trace.pallet(f).pos[0] - s.trace.pallet(i0).pos[0] - carried) < 1e-9);
+        if (t > profile.decel_start_s + 1e-9) ++ramp_frames;
+      }
+      // The step after it reads the pallet where the jump put it: a step behind the belt, as
+      // throughout (no step in the slip).
+      if (i + 1 < s.trace.size()) {
+        const double lag = s.trace.belt(i + 1).x - s.trace.pallet(i + 1).pos[0];
+        QVERIFY2(std::abs(lag - (s.trace.belt(i).x - s.trace.pallet(i).pos[0])) <
+                     dt * std::abs(profile.velocity_at(t1) - profile.velocity_at(t1 + dt)) + 1e-5,
+                 qPrintable(QString::number(lag)));
+      }
       // Within one phase, after the dwell, and one step short of the next breakpoint.
       double before = 0.0, after = profile.duration_s;
       for (double b : breakpoints) {
@@ -334,12 +359,12 @@ class ProbeRunTest : public QObject {
         stepped += dt * profile.velocity_at(t0 + j * dt);
         exact += dt * profile.velocity_at(t0 + (j - 0.5) * dt);
       }
-      const double belt_travel = s.trace.belt(i).x - s.trace.belt(i - 1).x;
+      const double belt_travel = s.trace.belt(i).x - s.trace.belt(i0).x;
       QVERIFY(std::abs(belt_travel - stepped) < 1e-9);
       QVERIFY(std::abs(belt_travel - exact) <= 0.5 * profile.decel_mps2 * dt * (t1 - t0) + 1e-9);
-      const double pallet_travel = s.trace.pallet(i).pos[0] - s.trace.pallet(i - 1).pos[0];
-      QVERIFY(std::abs(pallet_travel - belt_travel) < 1e-9);
-      QCOMPARE(s.trace.pallet(i).quat, s.trace.pallet(i - 1).quat);
+      const double pallet_travel = s.trace.pallet(i).pos[0] - s.trace.pallet(i0).pos[0];
+      QVERIFY(std::abs(pallet_travel - carried) < 1e-9);
+      QCOMPARE(s.trace.pallet(i).quat, s.trace.pallet(i0).quat);
       if (t1 < profile.decel_start_s) {
         ++lead_in_gaps;
         QVERIFY(std::abs(belt_travel - profile.target_speed_mps * (t1 - t0)) < 1e-9);
@@ -347,6 +372,7 @@ class ProbeRunTest : public QObject {
     }
     QVERIFY(gaps >= 1);
     QCOMPARE(lead_in_gaps, 1);
+    QVERIFY2(ramp_frames > 0, "no jump within the ramp down");
     // The run after the jump: the pallet still rides with the belt (slip well below threshold).
     const std::size_t last = s.trace.size() - 1;
     QVERIFY(std::abs(s.trace.belt(last).x -
@@ -357,9 +383,7 @@ class ProbeRunTest : public QObject {
     eumos.eumos_g = 0.1;
     eumos.duration_s = 1.0;
     const SimResult e = r->sim->run(r->rest, eumos, o);
-    for (std::size_t i = 1; i < e.trace.size(); ++i) {
-      if (e.trace.time(i) - e.trace.time(i - 1) > 1.5 * dt) QVERIFY(e.trace.time(i - 1) >= 0.05);
-    }
+    for (const SimResult::Jump& jump : e.jumps) QVERIFY(jump.after_step * dt >= 0.05 - 1e-9);
   }
 
   void beltWatchNeedsThreeGrowingSteps() {
