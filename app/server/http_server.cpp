@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <filesystem>
+#include <string>
+#include <utility>
 
 namespace pb::server {
 
@@ -84,6 +86,42 @@ std::string error_body(const httplib::Request& req, int status, std::size_t max_
   const nlohmann::json body = {{"detail", detail},
                                {"errors", {{{"pointer", ""}, {"message", detail}}}}};
   return body.dump();  // ASCII only
+}
+
+// What is wrong with a request's framing before its body is read, as (status, detail); status 0
+// when nothing is. cpp-httplib 0.11 reads Content-Length with strtoull and takes the first of
+// several: "-5" wrapped round to 2^64 - 5 and waited 30 s for the body before a 413, "abc" read as
+// no body, and two different lengths were taken as the first (RFC 9112 6.3: a request whose
+// length is ambiguous must be refused, or a proxy in front that takes the other one is smuggled a
+// second request). A declared length far past the limit is refused before the body is sent.
+std::pair<int, std::string> framing_error(const httplib::Request& req, std::size_t max_body) {
+  const std::size_t lengths = req.get_header_value_count("Content-Length");
+  if (lengths == 0) return {0, {}};
+  if (req.has_header("Transfer-Encoding")) {
+    return {400, "the request has both Transfer-Encoding and Content-Length; send one of them"};
+  }
+  const std::string first = req.get_header_value("Content-Length", 0);
+  for (std::size_t k = 0; k < lengths; ++k) {
+    const std::string value = req.get_header_value("Content-Length", k);
+    const bool digits =
+        !value.empty() && value.size() <= 19 &&
+        std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits) {
+      return {400, "Content-Length '" + value.substr(0, 40) +
+                       "' is not a number of bytes; send the body's length in bytes"};
+    }
+    if (value != first) {
+      return {400, "the request has two different Content-Length headers (" + first + " and " +
+                       value + "); send one"};
+    }
+  }
+  // A body up to four times the limit is read and dropped (with_body, cpp-httplib), so that a
+  // client still sending gets its 413; past that nobody waits for it.
+  if (std::stoull(first) > 4 * max_body) {
+    return {413, "the body (" + first + " bytes) is larger than this service's limit of " +
+                     std::to_string(max_body) + " bytes (--max-body); send a smaller document"};
+  }
+  return {0, {}};
 }
 
 }  // namespace
@@ -181,6 +219,19 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     res.set_header("Access-Control-Allow-Headers", "*");
     res.set_header("Access-Control-Max-Age", "600");
     res.status = 204;
+  });
+  // A body whose framing is wrong is refused before it is read (and the connection closed: what
+  // follows is not a request).
+  s.set_pre_routing_handler([max_body, cors](const httplib::Request& req, httplib::Response& res) {
+    auto [status, detail] = framing_error(req, max_body);
+    if (status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    cors(req, res);
+    res.status = status;
+    res.set_header("Connection", "close");
+    const nlohmann::json body = {{"detail", detail},
+                                 {"errors", {{{"pointer", ""}, {"message", detail}}}}};
+    res.set_content(body.dump(), "application/json");
+    return httplib::Server::HandlerResponse::Handled;
   });
   // What cpp-httplib answers itself (an oversized body, a malformed request) gets our JSON.
   s.set_error_handler([max_body](const httplib::Request& req, httplib::Response& res) {

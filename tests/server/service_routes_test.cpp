@@ -2,6 +2,11 @@
 // palletballet-server over real HTTP, route by route: the reference system's calls from its post
 // answered in its shapes, ours under /v1/, and every kind of bad request refused with a status and
 // a sentence that names what to change.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
 #include <QtTest>
 
 #include "core/analysis/analyzer.hpp"
@@ -14,6 +19,33 @@ using pb::test::Json;
 using pb::test::ServerProcess;
 
 namespace {
+
+// Sends `request` on a new connection to the server and returns the reply, up to the end of its
+// JSON body (the connection may stay open); empty when nothing came within 10 s.
+std::string raw_exchange(int port, const std::string& request) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return {};
+  timeval timeout{10, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  std::string reply;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
+      ::send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size())) {
+    char buffer[4096];
+    for (;;) {
+      const auto head_end = reply.find("\r\n\r\n");
+      if (head_end != std::string::npos && reply.ends_with("}")) break;
+      const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+      if (n <= 0) break;
+      reply.append(buffer, std::size_t(n));
+    }
+  }
+  ::close(fd);
+  return reply;
+}
 
 const char* kJson = "application/json";
 
@@ -388,6 +420,32 @@ class ServiceRoutesTest : public QObject {
     auto wrong_method = client_->Get("/safety/analyze");
     QCOMPARE(wrong_method->status, 405);
     QCOMPARE(wrong_method->get_header_value("Allow"), "POST");
+    QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
+  }
+
+  // A body's framing that cannot be trusted is refused at once, before the body is read: a length
+  // that is not a number (cpp-httplib read "-5" as 2^64 - 5 and waited 30 s for it, "abc" as no
+  // body), two different lengths (it took the first: a request smuggled past a proxy that takes
+  // the other), both a length and chunks, a length far past the limit.
+  void framingThatCannotBeTrustedIsRefused() {
+    const std::string head =
+        "POST /v1/validate HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n";
+    const std::pair<const char*, int> cases[] = {
+        {"Content-Length: -5\r\n", 400},
+        {"Content-Length: abc\r\n", 400},
+        {"Content-Length: 99999999999999999999\r\n", 400},
+        {"Content-Length: 7\r\nContent-Length: 9\r\n", 400},
+        {"Content-Length: 7\r\nTransfer-Encoding: chunked\r\n", 400},
+        {"Content-Length: 9000000000\r\n", 413},
+        {"Content-Length: 7\r\nContent-Length: 7\r\n", 200},
+    };
+    for (const auto& [headers, status] : cases) {
+      const std::string reply = raw_exchange(server_->port(), head + headers + "\r\n{\"a\":1}");
+      QVERIFY2(reply.starts_with("HTTP/1.1 " + std::to_string(status)),
+               qPrintable(QString::fromStdString(headers + std::string(" -> ") + reply)));
+      const Json body = Json::parse(reply.substr(reply.find("\r\n\r\n") + 4));
+      if (status != 200) QVERIFY(!body["errors"][0]["message"].get<std::string>().empty());
+    }
     QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
   }
 
