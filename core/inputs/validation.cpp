@@ -139,6 +139,10 @@ bool check_base(Checker& c, const PalletConfig& config) {
   return base_ok;
 }
 
+// An item's size and position, each, within these (m).
+constexpr double kMaxItemDim_m = 3.0;
+constexpr double kMaxItemPosition_m = 10.0;
+
 // Per-item syntax and range rules. Returns whether the item's numbers are usable for the
 // physical rules.
 bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
@@ -148,7 +152,7 @@ bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
   for (std::size_t k = 0; k < 3; ++k) {
     const std::string k_str = std::to_string(k);
     ok = c.in_range(p + "/dims_m/" + k_str, "dims_m[" + k_str + "]", item.dims_m[k],
-                    {0.0, 3.0, true}, "m") &&
+                    {0.0, kMaxItemDim_m, true}, "m") &&
          ok;
   }
   for (std::size_t k = 0; k < 3; ++k) {
@@ -156,7 +160,7 @@ bool check_item_fields(Checker& c, const Item& item, std::size_t i) {
     // Any item beyond 10 m of the pallet's centre is off it; a larger number is a unit slip
     // (1e308 was reported as reaching "inf mm" beyond the edge).
     ok = c.in_range(p + "/position/" + k_str, "position[" + k_str + "]", item.position[k],
-                    {-10.0, 10.0, false}, "m") &&
+                    {-kMaxItemPosition_m, kMaxItemPosition_m, false}, "m") &&
          ok;
   }
   ok = c.in_range(p + "/orientation_deg", "orientation_deg", item.orientation_deg,
@@ -471,22 +475,28 @@ void check_gross_mass(Checker& c, const PalletConfig& config) {
                         " pallet may carry; remove " + fixed(mass - cap, 1) + " kg of items");
 }
 
-// The top of the load over the usable items, reported at the highest one.
+// The top of the load over the usable items and those only too high to be (a 400-carton column
+// was said to be 10.05 m high, the top of its last carton below 10 m, where it reached 60 m),
+// reported at the highest one.
 void check_stack_height(Checker& c, const PalletConfig& config, const std::vector<bool>& usable) {
   std::size_t highest = config.items.size();
   for (std::size_t i = 0; i < config.items.size(); ++i) {
-    if (usable[i] && (highest == config.items.size() ||
-                      config.items[i].top_z() > config.items[highest].top_z())) {
+    const Item& item = config.items[i];
+    const bool too_high = std::isfinite(item.position[2]) &&
+                          item.position[2] > kMaxItemPosition_m && item.dims_m[2] > 0.0 &&
+                          item.dims_m[2] <= kMaxItemDim_m;
+    if ((usable[i] || too_high) && (highest == config.items.size() ||
+                                    config.items[i].top_z() > config.items[highest].top_z())) {
       highest = i;
     }
   }
   if (highest == config.items.size()) return;
   const double top = config.items[highest].top_z();
   if (top <= c.limits().max_stack_height_m) return;
-  c.error(item_pointer(highest), "the load is " + fixed(top, 3) + " m high (top of " +
-                                     item_name(config.items[highest], highest) + "), above the " +
-                                     fixed(c.limits().max_stack_height_m, 3) +
-                                     " m limit; remove or lower the top layer");
+  c.error(item_pointer(highest),
+          "the load is " + (top < 1e6 ? fixed(top, 3) : short_number(top)) + " m high (top of " +
+              item_name(config.items[highest], highest) + "), above the " +
+              fixed(c.limits().max_stack_height_m, 3) + " m limit; remove or lower the top layer");
 }
 
 }  // namespace

@@ -489,6 +489,18 @@ class ValidationTest : public QObject {
     EXPECT_ONE(validate(config), "/items/11", Severity::error);  // top at 1.95 m > 1.85 m
     config.items.pop_back();
     QVERIFY(validate(config).empty());  // 1.80 m
+    // A column so tall its top cartons' positions are out of range: the height is its real top,
+    // not the top of the last carton whose position was in range.
+    config.items.clear();
+    for (int level = 0; level < 80; ++level)
+      config.items.push_back(cheese(0, 0, 0.15 + 0.15 * level));
+    const Diagnostics errors = errors_of(validate(config));
+    const auto height = std::find_if(errors.begin(), errors.end(), [](const Diagnostic& d) {
+      return contains(d.message, "m high");
+    });
+    QVERIFY(height != errors.end());
+    QCOMPARE(height->pointer, std::string("/items/79"));
+    QVERIFY2(contains(height->message, "12.150 m high"), height->message.c_str());
   }
 
   void findingsComeInDocumentOrder() {
