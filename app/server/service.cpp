@@ -133,25 +133,35 @@ struct PalletReading {
   AnalyzerOptions analyzer;
 };
 
-std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
-                                                         const std::string& prefix,
-                                                         const PalletReading& reading) {
+/// What read_pallet finds: a refusal before the pallet is read (not an object, too many items),
+/// or the pallet as read, if it could be, with every finding, errors and warnings.
+struct PalletFindings {
+  std::optional<Response> refused;
+  std::optional<PalletConfig> config;
+  Diagnostics diagnostics;
+};
+
+PalletFindings check_pallet(const Json& json, const std::string& prefix,
+                            const PalletReading& reading) {
   const std::size_t max_items = reading.max_items;
   if (!json.is_object()) {
-    return error_response(
-        422, (prefix.empty() ? "the body" : prefix) + " must be a PalletConfig JSON object",
-        {{prefix, "must be a PalletConfig JSON object", Severity::error}});
+    return {error_response(
+                422, (prefix.empty() ? "the body" : prefix) + " must be a PalletConfig JSON object",
+                {{prefix, "must be a PalletConfig JSON object", Severity::error}}),
+            std::nullopt,
+            {}};
   }
   if (auto it = json.find("items"); it != json.end() && it->is_array() && it->size() > max_items) {
-    return error_response(
-        413,
+    const std::string message =
         "the pallet has " + std::to_string(it->size()) + " items; this service analyses at most " +
-            std::to_string(max_items) + " (--max-items); split the load" +
-            (max_items < ValidationLimits{}.max_items ? " or ask for a larger limit" : ""),
-        {{prefix + "/items", "at most " + std::to_string(max_items) + " items", Severity::error}});
+        std::to_string(max_items) + " (--max-items); split the load" +
+        (max_items < ValidationLimits{}.max_items ? " or ask for a larger limit" : "");
+    return {error_response(413, message, {{prefix + "/items", message, Severity::error}}),
+            std::nullopt,
+            {}};
   }
   auto pallet = pallet_from_json(json, prefix);
-  if (!pallet) return diagnostics_response(422, pallet.diagnostics);
+  if (!pallet) return {std::nullopt, std::nullopt, pallet.diagnostics};
   Diagnostics diags = pallet.diagnostics;
   for (auto d : validate(*pallet.value)) {
     d.pointer = prefix + d.pointer;
@@ -163,8 +173,19 @@ std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
       diags.push_back(std::move(d));
     }
   }
-  if (has_errors(diags)) return diagnostics_response(422, diags);
-  return Result<PalletConfig>{std::move(*pallet.value), std::move(diags)};
+  return {std::nullopt, std::move(*pallet.value), std::move(diags)};
+}
+
+/// A valid pallet, or the response that refuses it (see check_pallet).
+std::variant<Result<PalletConfig>, Response> read_pallet(const Json& json,
+                                                         const std::string& prefix,
+                                                         const PalletReading& reading) {
+  PalletFindings found = check_pallet(json, prefix, reading);
+  if (found.refused) return std::move(*found.refused);
+  if (!found.config || has_errors(found.diagnostics)) {
+    return diagnostics_response(422, found.diagnostics);
+  }
+  return Result<PalletConfig>{std::move(*found.config), std::move(found.diagnostics)};
 }
 
 /// A /v1/ request that wraps its pallet ({"pallet": ..., ...}) may hold only the members its route
@@ -549,7 +570,8 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
   post("/pallet/validate", [reading](const Request& request, const Params&) {
     auto body = parse_body(request);
     if (holds_response(body)) return std::get<Response>(body);
-    auto pallet = read_pallet(std::get<Json>(body), "", reading);
+    std::string prefix;  // a pallet on its own, or wrapped as every /v1 route and the CLI take it
+    auto pallet = read_pallet(pallet_member(std::get<Json>(body), prefix), prefix, reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
     return json_response(200, pallet_to_json(*std::get<Result<PalletConfig>>(pallet)));
   });
@@ -559,13 +581,20 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     if (auto refused = unknown_members(std::get<Json>(body), {"pallet"})) return *refused;
     std::string prefix;
     const Json& pj = pallet_member(std::get<Json>(body), prefix);
-    auto pallet = read_pallet(pj, prefix, reading);
-    if (!holds_response(pallet)) {
-      const auto& p = std::get<Result<PalletConfig>>(pallet);
-      return json_response(200, validation_report_to_json(*p, p.diagnostics));
+    // An invalid pallet is still a report (200): what is wrong, where, and its warnings too (the
+    // CLI's validate lists them; a 422 carries errors only).
+    const PalletFindings found = check_pallet(pj, prefix, reading);
+    if (found.config) {
+      return json_response(
+          200, validation_report_to_json(*found.config, found.diagnostics, reading.max_items));
     }
-    // An invalid pallet is still a report (200): what is wrong, where.
-    const Response& r = std::get<Response>(pallet);
+    if (!found.refused) {
+      return json_response(200,
+                           {{"valid", false},
+                            {"errors", diagnostics_to_json(errors_of(found.diagnostics))},
+                            {"warnings", diagnostics_to_json(warnings_of(found.diagnostics))}});
+    }
+    const Response& r = *found.refused;
     if (r.status != 422) return r;
     const Json refused = Json::parse(r.body);
     return json_response(
@@ -575,7 +604,8 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
        [reading](const Request& request, const Params&) {
          auto body = parse_body(request);
          if (holds_response(body)) return std::get<Response>(body);
-         auto pallet = read_pallet(std::get<Json>(body), "", reading);
+         std::string prefix;
+         auto pallet = read_pallet(pallet_member(std::get<Json>(body), prefix), prefix, reading);
          if (holds_response(pallet)) return std::get<Response>(pallet);
          const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
          Json out;

@@ -165,6 +165,20 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(body_of(refused)["errors"][0]["pointer"], "/items/0/dims_m/2");
     const Json report = body_of(client_->Post("/v1/validate", broken.dump(), kJson));
     QCOMPARE(report["valid"], false);
+    // An invalid pallet's report keeps its warnings, as the CLI's does (a stale stored height),
+    // and its metrics, wrapped or not.
+    broken["stack_height_m"] = 0.1;
+    for (const Json& body : {broken, Json{{"pallet", broken}}}) {
+      const Json warned = body_of(client_->Post("/v1/validate", body.dump(), kJson));
+      QCOMPARE(warned["valid"], false);
+      const Json& warnings = warned["warnings"];
+      QVERIFY2(std::any_of(warnings.begin(), warnings.end(),
+                           [](const Json& w) {
+                             return w["pointer"].get<std::string>().ends_with("/stack_height_m");
+                           }),
+               warned.dump().c_str());
+      QVERIFY(warned.contains("total_mass_kg"));
+    }
     // Valid is what an analysis will not refuse: no friction data for a plastic pallet on steel.
     Json unmodelled = Json::parse(pallet);
     unmodelled["base_pallet_type"] = "CHEP";
@@ -175,6 +189,14 @@ class ServiceRoutesTest : public QObject {
       QCOMPARE(body_of(no_friction)["errors"][0]["pointer"], "/belt_surface");
     }
     QCOMPARE(body_of(client_->Post("/v1/validate", unmodelled.dump(), kJson))["valid"], false);
+    // Wrapped as the /v1 routes and the CLI take it ({"pallet": ...}), too.
+    const std::string wrapped = R"({"pallet": )" + pallet + "}";
+    QCOMPARE(body_of(client_->Post("/pallet/validate", wrapped, kJson)), Json::parse(pallet));
+    Json wrapped_broken = {{"pallet", broken}};
+    QCOMPARE(body_of(client_->Post("/pallet/validate", wrapped_broken.dump(),
+                                   kJson))["errors"][0]["pointer"],
+             "/pallet/items/0/dims_m/2");
+    QCOMPARE(client_->Post("/mjcf/build", wrapped, kJson)->status, 200);
     const Json mjcf = body_of(client_->Post("/mjcf/build", pallet, kJson));
     QVERIFY(mjcf["mjcf_xml"].get<std::string>().starts_with("<mujoco"));
     QCOMPARE(mjcf["bytes"].get<std::size_t>(), mjcf["mjcf_xml"].get<std::string>().size());
