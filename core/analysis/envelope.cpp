@@ -1461,20 +1461,25 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   r.line_curve_radius_m = line.curve_radius_m;
   r.max_accel_mps2 = env.accel.limit;
   r.accel_mode = env.accel.mode;
+  r.accel_item_tipped = env.accel.item_tipped;
   r.max_decel_mps2 = env.decel.limit;
   r.decel_mode = env.decel.mode;
+  r.decel_item_tipped = env.decel.item_tipped;
   r.max_lateral_g = env.lateral.limit;
   r.lateral_mode = env.lateral.mode;
+  r.lateral_item_tipped = env.lateral.item_tipped;
   // The speed the curve allows: v^2 / r within the measured lateral limit.
   const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
   const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
   if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
     r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
     r.speed_mode = env.lateral.mode;
+    r.speed_item_tipped = env.lateral.item_tipped;
     r.speed_governed_by = SpeedGovernor::curve;
   } else {
     r.max_speed_mps = stop_speed;
     r.speed_mode = env.speed.mode;
+    r.speed_item_tipped = env.speed.item_tipped;
     r.speed_governed_by = env.speed.at_ceiling ? SpeedGovernor::ceiling : SpeedGovernor::estop;
   }
   r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);

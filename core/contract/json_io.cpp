@@ -79,6 +79,9 @@ Json to_json_value(const std::optional<double>& value) {
 Json to_json_value(int value) {
   return value;
 }
+Json to_json_value(bool value) {
+  return value;
+}
 Json to_json_value(const std::string& value) {
   return value;
 }
@@ -142,6 +145,10 @@ struct SafetyResultFields {
     f("decel_mode", result.decel_mode, false);
     f("lateral_mode", result.lateral_mode, false);
     f("speed_mode", result.speed_mode, false);
+    f("accel_item_tipped", result.accel_item_tipped, false);
+    f("decel_item_tipped", result.decel_item_tipped, false);
+    f("lateral_item_tipped", result.lateral_item_tipped, false);
+    f("speed_item_tipped", result.speed_item_tipped, false);
     f("speed_governed_by", result.speed_governed_by, false);
     f("verdict", result.verdict, false);
     f("reason", result.reason, false);

@@ -33,6 +33,12 @@ struct SafetyResult {
   FailureMode decel_mode = FailureMode::no_failure;
   FailureMode lateral_mode = FailureMode::no_failure;
   FailureMode speed_mode = FailureMode::no_failure;
+  /// Each axis's top_item_slide (the reference's word for any item moving 5 cm) where the item
+  /// tipped over rather than slid: what the reason's "an item tips over" says, for a machine.
+  bool accel_item_tipped = false;
+  bool decel_item_tipped = false;
+  bool lateral_item_tipped = false;
+  bool speed_item_tipped = false;
   SpeedGovernor speed_governed_by = SpeedGovernor::unset;
   Verdict verdict = Verdict::ok;       ///< reject: unsafe at any motion, or it cannot stand
   std::string reason;                  ///< one sentence a supervisor reads

@@ -304,6 +304,11 @@ class EnvelopeTest : public QObject {
     for (const Probe& p : env->probes) {
       if (p.outcome == Outcome::failed) QVERIFY(p.item_tipped);
     }
+    // The result says it for a machine too (its mode stays the contract's top_item_slide).
+    QCOMPARE(env->result.accel_mode, FailureMode::top_item_slide);
+    QVERIFY(env->result.accel_item_tipped);
+    QCOMPARE(env->result.decel_item_tipped, env->decel.item_tipped);
+    QVERIFY(env->result.lateral_item_tipped);
     const std::string& why = env->result.reason;
     QVERIFY2(why.find("(above it, an item tips over;") != std::string::npos, why.c_str());
     // Each axis says what fails above it; only the closed-form level says it was not simulated.

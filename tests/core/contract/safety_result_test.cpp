@@ -26,6 +26,7 @@ SafetyResult sample() {
   r.decel_mode = FailureMode::top_item_slide;
   r.lateral_mode = FailureMode::pallet_slip;
   r.speed_mode = FailureMode::top_item_slide;
+  r.speed_item_tipped = true;  // an item tips over in the stop that sets the speed
   r.speed_governed_by = SpeedGovernor::estop;
   r.verdict = Verdict::ok;
   r.reason = "the top layer slides first in a stop";
@@ -45,12 +46,15 @@ class SafetyResultTest : public QObject {
     const Json json = safety_result_to_json(sample());
     QStringList keys;
     for (const auto& [key, value] : json.items()) keys << QString::fromStdString(key);
-    QCOMPARE(keys, (QStringList{"accel_mode",
+    QCOMPARE(keys, (QStringList{"accel_item_tipped",
+                                "accel_mode",
                                 "confidence",
                                 "config_hash",
+                                "decel_item_tipped",
                                 "decel_mode",
                                 "dominant_failure_mode",
                                 "fidelity",
+                                "lateral_item_tipped",
                                 "lateral_mode",
                                 "line_curve_radius_m",
                                 "line_estop_decel_mps2",
@@ -65,8 +69,11 @@ class SafetyResultTest : public QObject {
                                 "sim_runtime_ms",
                                 "sims_run",
                                 "speed_governed_by",
+                                "speed_item_tipped",
                                 "speed_mode",
                                 "verdict"}));
+    QCOMPARE(json["speed_item_tipped"], true);
+    QCOMPARE(json["accel_item_tipped"], false);
     QCOMPARE(json["accel_mode"].get<std::string>(), std::string("tip_over"));
     QCOMPARE(json["fidelity"].get<std::string>(), std::string("reduced"));
     QCOMPARE(json["dominant_failure_mode"].get<std::string>(), std::string("load_shift"));
@@ -86,9 +93,11 @@ class SafetyResultTest : public QObject {
 
   void readsAReferenceResultWithoutOurAdditions() {
     Json json = safety_result_to_json(sample());
-    for (const char* ours : {"schema_version", "sims_run", "accel_mode", "decel_mode",
-                             "lateral_mode", "speed_mode", "speed_governed_by", "verdict", "reason",
-                             "line_estop_decel_mps2", "line_curve_radius_m", "fidelity"}) {
+    for (const char* ours :
+         {"schema_version", "sims_run", "accel_mode", "decel_mode", "lateral_mode", "speed_mode",
+          "speed_governed_by", "verdict", "reason", "line_estop_decel_mps2", "line_curve_radius_m",
+          "fidelity", "accel_item_tipped", "decel_item_tipped", "lateral_item_tipped",
+          "speed_item_tipped"}) {
       json.erase(ours);
     }
     const auto read = safety_result_from_json(json);
