@@ -368,7 +368,15 @@ class PhysicalChecks {
         (s.margin_m < 0.0 ? "outside" : "inside") + " the edge of what it rests on (" +
         supports_phrase(s) + ") and must be at least " + fixed(1000.0 * required, 0) +
         " mm inside; ";
-    if (auto shift = standing_correction(config_, standings_, i, required, tolerance)) {
+    const Vec3& dims = item(i).dims_m;
+    const double across = std::min(dims[0], dims[1]);
+    if (across < 2.0 * required - 1e-9) {
+      // Centred on its own footprint its load is half of that inside: no shift or re-stacking
+      // stands it (an 18 mm board on its edge was told to re-stack centred, which it was).
+      const std::string mm = fixed(1000.0 * across, 0) + " mm";
+      message += "it is " + mm + " thick, so it cannot stand on that side wherever it is placed: " +
+                 "lay it flat (its " + mm + " as its height, dims_m[2])";
+    } else if (auto shift = standing_correction(config_, standings_, i, required, tolerance)) {
       message += "move " + subject + " " + shift_phrase(*shift) + " to stand it over its support";
     } else {
       message +=

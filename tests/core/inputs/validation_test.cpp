@@ -357,6 +357,25 @@ class ValidationTest : public QObject {
     QVERIFY(validate(config, lenient).empty());
   }
 
+  // An item thinner than twice the margin cannot stand on that side anywhere: it is told to lie
+  // flat, not to be re-stacked centred (an 18 mm board, centred on the deck, was).
+  void aBoardOnItsEdgeIsToldToLieFlat() {
+    PalletConfig config;
+    Item board = cheese(0.0, 0.0, 0.15);
+    board.dims_m = {0.018, 1.0, 0.6};
+    board.weight_kg = 8.0;
+    config.items = {board};
+    const Diagnostics errors = errors_of(validate(config));
+    QCOMPARE(errors.size(), std::size_t{1});
+    QCOMPARE(errors[0].pointer, std::string("/items/0/position"));
+    QVERIFY2(contains(errors[0].message, "18 mm thick") &&
+                 contains(errors[0].message, "lay it flat") &&
+                 !contains(errors[0].message, "re-stack"),
+             errors[0].message.c_str());
+    config.items[0].dims_m = {1.0, 0.6, 0.018};  // flat: stands
+    QVERIFY(!has_errors(validate(config)));
+  }
+
   void overhang() {
     PalletConfig config = valid();
     config.items[1].position[0] = 0.52;  // reaches 0.72 m: 12 cm over the 0.60 m edge
