@@ -173,7 +173,7 @@ std::vector<int> int_list(const Args& args, const std::string& name, std::vector
   for (double v : *values) {
     if (!(v >= lo && v <= hi) || v != std::floor(v)) {
       throw UsageError{"bench: --" + name + " takes whole numbers from " + std::to_string(lo) +
-                       " to " + std::to_string(hi) + ", got " + fixed(v, 3)};
+                       " to " + std::to_string(hi) + ", got " + short_number(v)};
     }
     out.push_back(static_cast<int>(v));
   }
