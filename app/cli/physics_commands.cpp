@@ -14,6 +14,7 @@
 #include "core/analysis/result_json.hpp"
 #include "core/base/text.hpp"
 #include "core/inputs/scenario.hpp"
+#include "core/inputs/validation.hpp"
 #include "core/physics/scene.hpp"
 
 namespace pb::cli {
@@ -173,26 +174,30 @@ Diagnostics at_flags(Diagnostics diagnostics, const Args& args,
   return diagnostics;
 }
 
-// --fidelity: which model answers (core/analysis/fidelity.hpp); automatic when absent.
-Fidelity fidelity_option(const Args& args, const std::string& verb) {
+// The levels a run simulates on (solve: closed_form has no simulation to run).
+constexpr const char* kSimulatedLevels = "auto, reduced, clustered or full";
+
+// --fidelity: which model answers (core/analysis/fidelity.hpp); automatic when absent. With
+// `simulates`, only a level that simulates.
+Fidelity fidelity_option(const Args& args, const std::string& verb, bool simulates = false) {
   const auto text = args.text("fidelity");
   if (!text) return Fidelity::automatic;
   const auto level = enum_from_string<Fidelity>(*text);
   if (!level) {
-    throw UsageError{verb + ": --fidelity must be one of " + enum_choices<Fidelity>() + ", not '" +
-                     *text + "'"};
+    throw UsageError{verb + ": --fidelity must be one of " +
+                     (simulates ? std::string(kSimulatedLevels) : enum_choices<Fidelity>()) +
+                     ", not '" + *text + "'"};
+  }
+  if (simulates && *level == Fidelity::closed_form) {
+    throw UsageError{verb + ": --fidelity closed_form has no simulation to run; use " +
+                     kSimulatedLevels};
   }
   return *level;
 }
 
 int run_solve(const Args& args) {
   AnalyzerOptions options;
-  options.fidelity = fidelity_option(args, "solve");
-  if (options.fidelity == Fidelity::closed_form) {
-    throw UsageError{
-        "solve: --fidelity closed_form has no simulation to run; use auto, reduced, clustered or "
-        "full"};
-  }
+  options.fidelity = fidelity_option(args, "solve", true);
   const double hz = option_in_range(args, "solve", "hz", 30.0, 0.0, 1000.0, "frames per second");
   auto input = pallet_arg(args.positionals()[0]);
   if (!input) return kExitBadInput;
@@ -260,10 +265,15 @@ struct FileAnalysis {
   int exit_code = kExitOk;
 };
 
-FileAnalysis error_entry(const std::string& source, const Diagnostics& diagnostics, int code) {
-  for (const auto& d : errors_of(diagnostics)) {
+// Each of `diagnostics` on stderr, naming its file (analyze takes several).
+void print_for(const std::string& source, const Diagnostics& diagnostics) {
+  for (const auto& d : diagnostics) {
     std::cerr << "palletballet-cli analyze: " << source << ": " << to_string(d) << "\n";
   }
+}
+
+FileAnalysis error_entry(const std::string& source, const Diagnostics& diagnostics, int code) {
+  print_for(source, errors_of(diagnostics));
   return {{{"source", source}, {"error", messages_json(diagnostics)}}, code};
 }
 
@@ -272,7 +282,10 @@ FileAnalysis error_entry(const std::string& source, const Diagnostics& diagnosti
 FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool with_probes) {
   auto input = read_pallet_source(source);
   if (!input) return error_entry(source, input.diagnostics, kExitBadInput);
-  print_diagnostics(input.diagnostics);
+  print_for(source, input.diagnostics);
+  // What validate warns of (a weight or size far from its SKU's, a low support), as validate
+  // prints it: the analysis runs all the same.
+  print_for(source, located(warnings_of(validate(input->pallet)), *input));
   Json entry;
   if (with_probes) {
     auto envelope = analyzer.envelope(input->pallet);
@@ -280,6 +293,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
       const Diagnostics diags = located(envelope.diagnostics, *input);
       return error_entry(source, diags, exit_code_for(diags));
     }
+    print_for(source, warnings_of(located(envelope.diagnostics, *input)));
     entry = safety_result_to_json(envelope->result);
     entry["probes"] = probes_to_json(envelope->probes);
     entry["speculative_sims"] = envelope->speculative;
@@ -289,6 +303,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
       const Diagnostics diags = located(result.diagnostics, *input);
       return error_entry(source, diags, exit_code_for(diags));
     }
+    print_for(source, warnings_of(located(result.diagnostics, *input)));
     entry = safety_result_to_json(*result);
   }
   entry["source"] = source;

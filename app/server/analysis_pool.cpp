@@ -107,9 +107,12 @@ std::optional<Refusal> AnalysisPool::run(Ticket& ticket, const Work& work) {
   if (free_slot() == slots_.end()) {
     if (waiting_ >= options_.max_waiting) {
       ++counters_.rejected_busy;
-      return Refusal{Refusal::busy, "the service is busy: " + std::to_string(slots_.size()) +
-                                        " analyses are running and " + std::to_string(waiting_) +
-                                        " are waiting, the most it queues; retry later"};
+      const std::size_t running = slots_.size();
+      return Refusal{Refusal::busy, "the service is busy: " + std::to_string(running) +
+                                        (running == 1 ? " analysis is" : " analyses are") +
+                                        " running and " + std::to_string(waiting_) +
+                                        (waiting_ == 1 ? " is" : " are") +
+                                        " waiting, the most it queues; retry later"};
     }
     ++waiting_;
     freed_.wait(lock,

@@ -625,8 +625,6 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       r_.steps_skipped += n;
       r_.jumps.push_back({k, n});
       r_.skipped_s += n * dt_;
-      // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
-      // under the belt's rigid motion: the detector is run for consistency, not for news).
       // The trace gets every skipped step's frame, as stepping would have recorded it: what reads
       // it interpolates between frames (replays, the reference API's trace), and across one
       // frame at the jump's end it drew the belt's ramp as a straight line and the pallet
@@ -638,6 +636,8 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
         for (std::size_t i = 0; i < items_.size(); ++i) shift(jumped_items_[i], i + 1, j);
         r_.trace.push((k + j) * dt_, jumped(belt, j), pallet_j, jumped_items_);
       }
+      // The jump's endpoint, as the detectors and the trace see it (the measures are invariant
+      // under the belt's rigid motion: the detector is run for consistency, not for news).
       Pose pallet1 = pallet;
       shift(pallet1, 0, n);
       for (std::size_t i = 0; i < items_.size(); ++i) shift(items_[i], i + 1, n);

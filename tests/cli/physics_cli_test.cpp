@@ -377,6 +377,26 @@ class PhysicsCliTest : public QObject {
     QVERIFY(!first.contains(QStringLiteral("probes")));
   }
 
+  // With several files each warning names its file, and analyze warns of what validate does
+  // (a weight far from its SKU's): a warning without its file could not be told apart.
+  void analyzeNamesTheFileOfEachWarning() {
+    QTemporaryDir dir;
+    QJsonObject pallet =
+        scenario(QStringLiteral("stable-dairy-slab")).value(QStringLiteral("pallet")).toObject();
+    const QString plain = write_file(dir, QStringLiteral("plain.json"), bytes(pallet));
+    QJsonArray items = pallet.value(QStringLiteral("items")).toArray();
+    QJsonObject first = items[0].toObject();
+    first[QStringLiteral("weight_kg")] = first.value(QStringLiteral("weight_kg")).toDouble() * 1.1;
+    items[0] = first;
+    pallet[QStringLiteral("items")] = items;
+    const QString heavier = write_file(dir, QStringLiteral("heavier.json"), bytes(pallet));
+    Run r = cli({QStringLiteral("analyze"), plain, heavier});
+    QCOMPARE(r.exit_code, 0);
+    QVERIFY2(r.err.contains(heavier.toUtf8() + ": warning: /items/0/weight_kg: "),
+             r.err.constData());
+    QVERIFY2(!r.err.contains(plain.toUtf8() + ": warning"), r.err.constData());
+  }
+
   void analyzeListsProbesAndUsesTheLine() {
     Run r =
         cli({QStringLiteral("analyze"), QStringLiteral("-"), QStringLiteral("--probes"),
