@@ -107,7 +107,9 @@ std::pair<int, std::string> framing_error(const httplib::Request& req, std::size
         !value.empty() && value.size() <= 19 &&
         std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (!digits) {
-      return {400, "Content-Length '" + value.substr(0, 40) +
+      std::string shown = value.substr(0, 40);  // printable ASCII only: the reply is JSON
+      for (char& c : shown) c = c >= ' ' && c <= '~' ? c : '?';
+      return {400, "Content-Length '" + shown +
                        "' is not a number of bytes; send the body's length in bytes"};
     }
     if (value != first) {
@@ -220,8 +222,9 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     res.set_header("Access-Control-Max-Age", "600");
     res.status = 204;
   });
-  // A body whose framing is wrong is refused before it is read (and the connection closed: what
-  // follows is not a request).
+  // A body whose framing is wrong is refused before it is read, with Connection: close (the
+  // client must not send on it; cpp-httplib 0.11 keeps it open and reads what follows as a request,
+  // which it refuses).
   s.set_pre_routing_handler([max_body, cors](const httplib::Request& req, httplib::Response& res) {
     auto [status, detail] = framing_error(req, max_body);
     if (status == 0) return httplib::Server::HandlerResponse::Unhandled;

@@ -455,6 +455,7 @@ class ServiceRoutesTest : public QObject {
     const std::pair<const char*, int> cases[] = {
         {"Content-Length: -5\r\n", 400},
         {"Content-Length: abc\r\n", 400},
+        {"Content-Length: \xff\xfe\r\n", 400},  // not UTF-8: the reply's JSON still is
         {"Content-Length: 99999999999999999999\r\n", 400},
         {"Content-Length: 7\r\nContent-Length: 9\r\n", 400},
         {"Content-Length: 7\r\nTransfer-Encoding: chunked\r\n", 400},
