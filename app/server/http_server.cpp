@@ -70,6 +70,13 @@ bool peer_connected(int fd) {
   return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
 }
 
+// A refusal's JSON, as the service's: `detail`, and one error that says it.
+std::string refusal_json(const std::string& detail) {
+  const nlohmann::json body = {{"detail", detail},
+                               {"errors", {{{"pointer", ""}, {"message", detail}}}}};
+  return body.dump();
+}
+
 // Our JSON for a request that cpp-httplib, or the reading of its body, refused with `status`.
 std::string error_body(const httplib::Request& req, int status, std::size_t max_body) {
   std::string detail = "the request could not be read (HTTP " + std::to_string(status) + ")";
@@ -83,9 +90,7 @@ std::string error_body(const httplib::Request& req, int status, std::size_t max_
           "to 8192 bytes; send JSON with the header content-type: application/json";
     }
   }
-  const nlohmann::json body = {{"detail", detail},
-                               {"errors", {{{"pointer", ""}, {"message", detail}}}}};
-  return body.dump();  // ASCII only
+  return refusal_json(detail);  // ASCII only
 }
 
 // What is wrong with a request's framing before its body is read, as (status, detail); status 0
@@ -231,9 +236,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     cors(req, res);
     res.status = status;
     res.set_header("Connection", "close");
-    const nlohmann::json body = {{"detail", detail},
-                                 {"errors", {{{"pointer", ""}, {"message", detail}}}}};
-    res.set_content(body.dump(), "application/json");
+    res.set_content(refusal_json(detail), "application/json");
     return httplib::Server::HandlerResponse::Handled;
   });
   // What cpp-httplib answers itself (an oversized body, a malformed request) gets our JSON.

@@ -147,9 +147,10 @@ void ProbeRun::before_step(mjData& d) {
   const SceneLayout& l = scene_->layout;
   if (skip_n_ > 0) {  // the jump after_step planned: the belt's rigid motion (and the creep's)
     const double span = skip_n_ * dt_;
+    const auto [skip_dx, skip_dy] = jump_travel(skip_n_, 0);
     auto move = [&](int qpos, int dof, std::size_t body) {
-      d.qpos[qpos] += skip_dx_;
-      d.qpos[qpos + 1] += skip_dy_;
+      d.qpos[qpos] += skip_dx;
+      d.qpos[qpos + 1] += skip_dy;
       d.qvel[dof] += skip_dvx_;
       d.qvel[dof + 1] += skip_dvy_;
       if (skip_creep_) {
@@ -158,8 +159,8 @@ void ProbeRun::before_step(mjData& d) {
         mju_quatIntegrate(d.qpos + qpos + 3, v + 3, span);
       }
     };
-    d.qpos[l.belt_x_qpos] += skip_dx_;
-    d.qpos[l.belt_y_qpos] += skip_dy_;
+    d.qpos[l.belt_x_qpos] += skip_dx;
+    d.qpos[l.belt_y_qpos] += skip_dy;
     d.qvel[l.belt_x_dof] += skip_dvx_;
     d.qvel[l.belt_y_dof] += skip_dvy_;
     move(l.pallet_qpos, l.pallet_dof, 0);
@@ -371,26 +372,29 @@ double ProbeRun::creep_reach(double span) const {
                           spin * 180.0 / std::numbers::pi / t.tip_deg});
 }
 
-Trace::BeltState ProbeRun::jumped(const Trace::BeltState& belt, int j) const {
+std::array<double, 2> ProbeRun::jump_travel(int j, int lag) const {
   // Semi-implicit Euler moves the belt by dt v(t0 + i dt) in its i-th step, the command affine
-  // in time: j dt v0 + dv/n dt j(j+1)/2 over the first j of n steps (skip_dx_ at j = n).
+  // in time: j dt v0 + dv/n dt j (j + 1) / 2 over the first j of n steps. A pose read `lag` steps
+  // behind moved by j dt v0 + dv/n dt j (j + 1 - 2 lag) / 2 (the steps before it, dt v0 each).
+  const double ramp = 0.5 * (j + 1 - 2 * lag) * dt_ * (double(j) / double(skip_n_));
+  return {j * dt_ * skip_v0x_ + skip_dvx_ * ramp, j * dt_ * skip_v0y_ + skip_dvy_ * ramp};
+}
+
+Trace::BeltState ProbeRun::jumped(const Trace::BeltState& belt, int j) const {
+  const auto [dx, dy] = jump_travel(j, 0);
   const double share = double(j) / double(skip_n_);
-  const double ramp = 0.5 * (j + 1) * dt_ * share;
-  return {belt.x + (j * dt_ * skip_v0x_ + skip_dvx_ * ramp),
-          belt.y + (j * dt_ * skip_v0y_ + skip_dvy_ * ramp), belt.vx + skip_dvx_ * share,
-          belt.vy + skip_dvy_ * share};
+  return {belt.x + dx, belt.y + dy, belt.vx + skip_dvx_ * share, belt.vy + skip_dvy_ * share};
 }
 
 void ProbeRun::shift(Pose& p, std::size_t body, int j) const {
   // The poses read after a step are where the step started (mj_step's kinematics come before its
-  // integration; the belt is read from qpos, where it ended), so a body's pose j steps into the
-  // jump is the one j - 1 steps in: carried by the first j - 1 steps' travel and the one before
-  // the jump, dt v0. Moved by the belt's own j steps, the load lagged its belt by dt v0 over the
-  // whole jump and by dt v1 in the step after it: a ramp's jump put a step of dt (v1 - v0) into
-  // the trace's slip and its pallet velocity.
-  const double ramp = 0.5 * (j - 1) * dt_ * (double(j) / double(skip_n_));
-  p.pos[0] += j * dt_ * skip_v0x_ + skip_dvx_ * ramp;
-  p.pos[1] += j * dt_ * skip_v0y_ + skip_dvy_ * ramp;
+  // integration; the belt is read from qpos, where it ended), so a body's pose lags the belt by a
+  // step. Moved by the belt's own j steps, the load lagged its belt by dt v0 over the whole jump
+  // and by dt v1 in the step after it: a ramp's jump put a step of dt (v1 - v0) into the trace's
+  // slip and its pallet velocity.
+  const auto [dx, dy] = jump_travel(j, 1);
+  p.pos[0] += dx;
+  p.pos[1] += dy;
   if (!skip_creep_) return;
   const double span = j * dt_;
   const double* v = creep_v_.data() + 6 * body;
@@ -610,10 +614,6 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
       const double t0 = k * dt_, t1 = (k + n) * dt_;
       const double v0x = profile_.velocity_at(t0), v1x = profile_.velocity_at(t1);
       const double v0y = profile_.lateral_velocity_at(t0), v1y = profile_.lateral_velocity_at(t1);
-      // Semi-implicit Euler moves the belt by dt * v(t_j) per step: n dt v0 + a dt^2 n(n+1)/2.
-      const double sum = 0.5 * (n + 1) * dt_;  // dt^2 n(n+1)/2 divided by n dt
-      skip_dx_ = n * dt_ * v0x + (v1x - v0x) * sum;
-      skip_dy_ = n * dt_ * v0y + (v1y - v0y) * sum;
       skip_dvx_ = v1x - v0x;
       skip_dvy_ = v1y - v0y;
       skip_v0x_ = v0x;

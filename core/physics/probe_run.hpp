@@ -7,6 +7,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -146,7 +147,10 @@ class ProbeRun {
   std::optional<double> slip_certain(const mjModel& m, const mjData& d, double t, double slip);
   // The most the creep (creep_v_) can add to any detector's reading over its threshold in `span`.
   double creep_reach(double span) const;
-  // The belt's state `j` steps into the pending jump (of skip_n_), from `belt` where it starts.
+  // The travel (x, y) over the first `j` steps of the pending jump (of skip_n_) of the belt
+  // (`lag` 0) or of a body carried with it, read `lag` steps behind.
+  std::array<double, 2> jump_travel(int j, int lag) const;
+  // The belt's state `j` steps into the pending jump, from `belt` where it starts.
   Trace::BeltState jumped(const Trace::BeltState& belt, int j) const;
   // Moves `p`, the pose of body `body` (0 the pallet, then the items), by the first `j` steps of
   // the pending jump: the belt's travel, and the creep's when the jump carries it.
@@ -181,8 +185,8 @@ class ProbeRun {
   std::vector<double> breakpoints_;
   std::size_t phase_ = 0;
   int dwell_needed_ = 1, dwell_steps_ = 0, skip_n_ = 0;
-  double skip_dx_ = 0.0, skip_dy_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
-  double skip_v0x_ = 0.0, skip_v0y_ = 0.0;  // the command where the pending jump starts
+  // The pending jump: the belt's command where it starts, and its change over the jump.
+  double skip_v0x_ = 0.0, skip_v0y_ = 0.0, skip_dvx_ = 0.0, skip_dvy_ = 0.0;
   // The creep window: each body's velocity relative to the belt at its start and at the last step
   // (6 a body, the pallet first, then the items: linear in the world frame, angular in the body's,
   // as in qvel), and the steps it has lasted; a pending jump that carries the creep (skip_creep_)
