@@ -285,7 +285,15 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
   print_for(source, input.diagnostics);
   // What validate warns of (a weight or size far from its SKU's, a low support), as validate
   // prints it: the analysis runs all the same.
-  print_for(source, located(warnings_of(validate(input->pallet)), *input));
+  const Diagnostics warned = located(warnings_of(validate(input->pallet)), *input);
+  print_for(source, warned);
+  // The analysis's own warnings, less those just printed (the closed-form level returns
+  // validate's).
+  auto print_new_warnings = [&](const Diagnostics& diagnostics) {
+    for (const Diagnostic& d : warnings_of(located(diagnostics, *input))) {
+      if (std::find(warned.begin(), warned.end(), d) == warned.end()) print_for(source, {d});
+    }
+  };
   Json entry;
   if (with_probes) {
     auto envelope = analyzer.envelope(input->pallet);
@@ -293,7 +301,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
       const Diagnostics diags = located(envelope.diagnostics, *input);
       return error_entry(source, diags, exit_code_for(diags));
     }
-    print_for(source, warnings_of(located(envelope.diagnostics, *input)));
+    print_new_warnings(envelope.diagnostics);
     entry = safety_result_to_json(envelope->result);
     entry["probes"] = probes_to_json(envelope->probes);
     entry["speculative_sims"] = envelope->speculative;
@@ -303,7 +311,7 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
       const Diagnostics diags = located(result.diagnostics, *input);
       return error_entry(source, diags, exit_code_for(diags));
     }
-    print_for(source, warnings_of(located(result.diagnostics, *input)));
+    print_new_warnings(result.diagnostics);
     entry = safety_result_to_json(*result);
   }
   entry["source"] = source;

@@ -395,6 +395,11 @@ class PhysicsCliTest : public QObject {
     QVERIFY2(r.err.contains(heavier.toUtf8() + ": warning: /items/0/weight_kg: "),
              r.err.constData());
     QVERIFY2(!r.err.contains(plain.toUtf8() + ": warning"), r.err.constData());
+    // Once each, also where the analysis returns validate's warnings itself (closed form).
+    Run closed = cli({QStringLiteral("analyze"), heavier, QStringLiteral("--fidelity"),
+                      QStringLiteral("closed_form")});
+    QCOMPARE(closed.exit_code, 0);
+    QCOMPARE(closed.err.count("warning: /items/0/weight_kg: "), qsizetype(1));
   }
 
   void analyzeListsProbesAndUsesTheLine() {
