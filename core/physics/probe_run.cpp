@@ -147,10 +147,10 @@ void ProbeRun::before_step(mjData& d) {
   const SceneLayout& l = scene_->layout;
   if (skip_n_ > 0) {  // the jump after_step planned: the belt's rigid motion (and the creep's)
     const double span = skip_n_ * dt_;
-    const auto [skip_dx, skip_dy] = jump_travel(skip_n_, 0);
+    const std::array<double, 2> travel = jump_travel(skip_n_, 0);  // captured: no binding
     auto move = [&](int qpos, int dof, std::size_t body) {
-      d.qpos[qpos] += skip_dx;
-      d.qpos[qpos + 1] += skip_dy;
+      d.qpos[qpos] += travel[0];
+      d.qpos[qpos + 1] += travel[1];
       d.qvel[dof] += skip_dvx_;
       d.qvel[dof + 1] += skip_dvy_;
       if (skip_creep_) {
@@ -159,8 +159,8 @@ void ProbeRun::before_step(mjData& d) {
         mju_quatIntegrate(d.qpos + qpos + 3, v + 3, span);
       }
     };
-    d.qpos[l.belt_x_qpos] += skip_dx;
-    d.qpos[l.belt_y_qpos] += skip_dy;
+    d.qpos[l.belt_x_qpos] += travel[0];
+    d.qpos[l.belt_y_qpos] += travel[1];
     d.qvel[l.belt_x_dof] += skip_dvx_;
     d.qvel[l.belt_y_dof] += skip_dvy_;
     move(l.pallet_qpos, l.pallet_dof, 0);
