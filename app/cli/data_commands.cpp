@@ -31,7 +31,7 @@ void print_json(const Json& json) {
 }
 
 void print_diagnostics(const Diagnostics& diagnostics) {
-  for (const auto& d : diagnostics) std::cerr << to_string(d) << "\n";
+  for (const auto& d : condensed(diagnostics)) std::cerr << to_string(d) << "\n";
 }
 
 namespace {

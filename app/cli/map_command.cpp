@@ -82,6 +82,8 @@ int run_map(const Args& args) {
         d.pointer = input->pointer_prefix + d.pointer;
         input_fault = true;
       }
+    }
+    for (const auto& d : condensed(map.diagnostics)) {
       std::cerr << "palletballet-cli map: " << (d.pointer.empty() ? d.message : to_string(d))
                 << "\n";
     }

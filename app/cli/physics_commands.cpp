@@ -265,9 +265,10 @@ struct FileAnalysis {
   int exit_code = kExitOk;
 };
 
-// Each of `diagnostics` on stderr, naming its file (analyze takes several).
+// Each of `diagnostics` on stderr (many items' one problem told once: condensed), naming its
+// file (analyze takes several).
 void print_for(const std::string& source, const Diagnostics& diagnostics) {
-  for (const auto& d : diagnostics) {
+  for (const auto& d : condensed(diagnostics)) {
     std::cerr << "palletballet-cli analyze: " << source << ": " << to_string(d) << "\n";
   }
 }

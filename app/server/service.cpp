@@ -52,8 +52,9 @@ Response error_response(int status, const std::string& detail, const Diagnostics
 
 Response diagnostics_response(int status, const Diagnostics& diagnostics) {
   const Diagnostics errors = errors_of(diagnostics);
+  // "detail" is read by people: many items' one problem is told once (the list keeps them all).
   std::string detail;
-  for (const auto& d : errors) {
+  for (const auto& d : condensed(errors)) {
     detail += (detail.empty() ? "" : "; ") + (d.pointer.empty() ? d.message : to_string(d));
   }
   if (detail.empty()) detail = "the request was refused";

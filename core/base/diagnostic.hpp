@@ -2,6 +2,7 @@
 // Errors and warnings of reading and validation: where (a JSON pointer) and what to change.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,6 +34,15 @@ Diagnostics warnings_of(const Diagnostics& diagnostics);
 
 /// "pointer: message" for an error, "warning: pointer: message" for a warning.
 std::string to_string(const Diagnostic& diagnostic);
+
+/// The diagnostics as a person reads them (the CLI's messages, the service's `detail`, the
+/// console's): where more than `shown` + 1 items have one problem (the same message but for its
+/// numbers, at the same place in each item: /items/12/position/2, /items/13/position/2, ...),
+/// the first `shown` are kept and the rest are told in one more diagnostic at that place with a
+/// "*" for the item ("/items/*/position/2": "the same for 331 more items: 69-399"), where the
+/// group's first left-out member stood. Everything else is kept, in order. The lists a program
+/// reads (JSON "errors", "warnings") keep every diagnostic.
+Diagnostics condensed(const Diagnostics& diagnostics, std::size_t shown = 3);
 
 /// Escapes one reference token of a JSON pointer ("~" -> "~0", "/" -> "~1").
 std::string json_pointer_token(std::string_view token);

@@ -166,6 +166,39 @@ class CliTest : public QObject {
     }
   }
 
+  // Many items with one problem: the messages tell it once after the first three (and analyze's
+  // the same), the JSON report keeps every error with its pointer.
+  void manyItemsWithOneProblemAreToldOnce() {
+    QTemporaryDir dir;
+    Run scenario = cli({QStringLiteral("scenarios"), QStringLiteral("stable-dairy-slab")});
+    QJsonObject pallet = scenario.json().object().value(QStringLiteral("pallet")).toObject();
+    QJsonArray items = pallet.value(QStringLiteral("items")).toArray();
+    for (int i = 0; i < items.size(); ++i) {
+      QJsonObject item = items[i].toObject();
+      item[QStringLiteral("weight_kg")] = -1.0 - i;
+      items[i] = item;
+    }
+    pallet[QStringLiteral("items")] = items;
+    const QString path =
+        write_file(dir, QStringLiteral("bad.json"), QJsonDocument(pallet).toJson());
+    const int n = int(items.size());
+    QVERIFY(n >= 6);
+    Run r = cli({QStringLiteral("validate"), path});
+    QCOMPARE(r.exit_code, 2);
+    const QByteArray told = "/items/*/weight_kg: the same for " + QByteArray::number(n - 3) +
+                            " more items: 3-" + QByteArray::number(n - 1);
+    QVERIFY2(r.err.contains("/items/2/weight_kg: ") && !r.err.contains("/items/3/weight_kg: ") &&
+                 r.err.contains(told),
+             r.err.constData());
+    const QJsonArray errors = r.json().object().value(QStringLiteral("errors")).toArray();
+    QCOMPARE(int(errors.size()), n);
+    QCOMPARE(errors[n - 1].toObject().value(QStringLiteral("pointer")).toString(),
+             QStringLiteral("/items/%1/weight_kg").arg(n - 1));
+    Run a = cli({QStringLiteral("analyze"), path});
+    QCOMPARE(a.exit_code, 2);
+    QVERIFY2(a.err.contains(told) && !a.err.contains("/items/3/weight_kg: "), a.err.constData());
+  }
+
   // A document over the size limit is refused by its size (read no further than the limit), from
   // a file and from stdin alike.
   void anOversizedDocumentIsRefusedBySize() {

@@ -488,6 +488,25 @@ class ServiceRoutesTest : public QObject {
     }
   }
 
+  // "detail" is for people: many items with one problem are told once there after the first
+  // three; "errors" lists every one with its pointer.
+  void many_items_with_one_problem_are_told_once_in_the_detail() {
+    Json pallet = Json::parse(pallet_of(*client_, "stable-dairy-slab"));
+    const std::size_t n = pallet["items"].size();
+    for (std::size_t i = 0; i < n; ++i) pallet["items"][i]["weight_kg"] = -1.0 - double(i);
+    auto res = client_->Post("/safety/analyze", pallet.dump(), kJson);
+    QVERIFY(res);
+    QCOMPARE(res->status, 422);
+    const Json body = body_of(res);
+    QCOMPARE(body["errors"].size(), n);
+    const std::string detail = body["detail"];
+    QVERIFY2(detail.find("/items/2/weight_kg: ") != std::string::npos &&
+                 detail.find("/items/3/weight_kg: ") == std::string::npos &&
+                 detail.find("/items/*/weight_kg: the same for " + std::to_string(n - 3) +
+                             " more items: 3-" + std::to_string(n - 1)) != std::string::npos,
+             detail.c_str());
+  }
+
   // A /v1/ request wrapping its pallet names only the members its route reads: a misspelt one,
   // or a line (the service's own), would otherwise be ignored and the answer computed without it.
   void unknown_members_of_a_v1_request_are_refused() {

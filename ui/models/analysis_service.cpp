@@ -16,7 +16,7 @@ namespace {
 /// "<what>: <pointer>: <message>; ..." from the errors of a failed core call.
 QString describeFailure(const QString& what, const pb::Diagnostics& diagnostics) {
   QStringList parts;
-  for (const pb::Diagnostic& d : pb::errors_of(diagnostics)) {
+  for (const pb::Diagnostic& d : pb::condensed(pb::errors_of(diagnostics))) {
     parts << QString::fromStdString(pb::to_string(d));
   }
   if (parts.isEmpty()) parts << QStringLiteral("the core gave no reason");

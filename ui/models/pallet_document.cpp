@@ -36,7 +36,7 @@ QString file_name(const QString& path) {
 
 QStringList messages_of(const pb::Diagnostics& diagnostics) {
   QStringList out;
-  for (const auto& d : diagnostics) out << QString::fromStdString(pb::to_string(d));
+  for (const auto& d : pb::condensed(diagnostics)) out << QString::fromStdString(pb::to_string(d));
   return out;
 }
 
@@ -183,11 +183,9 @@ FileOutcome PalletDocument::open(const QString& path) {
   } else {
     setFile(QFileInfo(path).absoluteFilePath(), name);
   }
-  for (const auto& d : _diagnostics) {
-    pb::Diagnostic shown = d;
-    shown.pointer = source->pointer_prefix + shown.pointer;
-    messages << QString::fromStdString(pb::to_string(shown));
-  }
+  pb::Diagnostics findings = _diagnostics;
+  for (auto& d : findings) d.pointer = source->pointer_prefix + d.pointer;
+  messages << messages_of(findings);
   emit modifiedChanged(false);
   return {true, messages};
 }
@@ -351,7 +349,7 @@ bool PalletDocument::applyPreset(pb::LayerPattern pattern, const QString& sku, i
   if (plain && (!built || laid_plain(built))) built = std::move(*plain);
   if (!built) {
     QStringList why;
-    for (const auto& d : pb::errors_of(built.diagnostics)) {
+    for (const auto& d : pb::condensed(pb::errors_of(built.diagnostics))) {
       why << QString::fromStdString(pb::to_string(d));
     }
     return fail(why);

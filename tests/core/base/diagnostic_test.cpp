@@ -64,6 +64,48 @@ class DiagnosticTest : public QObject {
     QVERIFY(warnings_of({kError}).empty());
   }
 
+  void manyItemsWithOneProblemAreToldOnce() {
+    // 399 items too high (a gap at 150), four of them with a second problem and a warning too.
+    Diagnostics all{kDocument};
+    QStringList expected{q(to_string(kDocument))};
+    for (int i = 0; i < 400; ++i) {
+      if (i == 150) continue;
+      const std::string item = "/items/" + std::to_string(i);
+      all.push_back({item + "/position/2",
+                     "position[2] is " + std::to_string(10.05 + 0.15 * i) +
+                         " m; set it to a "
+                         "number in [-10, 10] m",
+                     Severity::error});
+      if (i < 3) expected << q(to_string(all.back()));
+      if (i == 3) {
+        expected << QStringLiteral(
+            "/items/*/position/2: the same for 396 more items: 3-149, 151-399");
+      }
+      if (i % 100 == 0) {  // four of each: nothing is left out of so few
+        all.push_back(
+            {item + "/sku", "unknown SKU 'X'; use one of the catalog's", Severity::error});
+        all.push_back({item + "/position/2", "position[2] is 0.5 m", Severity::warning});
+        expected << q(to_string(all[all.size() - 2])) << q(to_string(all.back()));
+      }
+    }
+    all.push_back({"/items/7/dims_m", "an item 12 m long; check the units", Severity::error});
+    expected << q(to_string(all.back()));
+    QStringList told;
+    for (const auto& d : condensed(all)) told << q(to_string(d));
+    QCOMPARE(told, expected);
+    // Nothing to condense: the same list.
+    const Diagnostics few{kError, kWarning, kDocument};
+    QVERIFY(condensed(few) == few);
+    // Scattered items are listed as runs, the first six of them.
+    Diagnostics scattered;
+    for (int i = 0; i < 40; i += 2) {
+      scattered.push_back(
+          {"/items/" + std::to_string(i) + "/sku", "unknown SKU 'X'", Severity::error});
+    }
+    QCOMPARE(q(to_string(condensed(scattered, 1).back())),
+             QStringLiteral("/items/*/sku: the same for 19 more items: 2, 4, 6, 8, 10, 12, ..."));
+  }
+
   void resultCarriesValueOrReasons() {
     const auto failed = Result<int>::failure("/x", "x is missing; add it");
     QVERIFY(!failed.ok());

@@ -406,6 +406,27 @@ class TestPalletDocument : public QObject {
              qPrintable(outcome.messages.join(u'\n')));
   }
 
+  // Many items with one finding (each twice its SKU's weight) are told once after the first
+  // three.
+  void manyItemsWithOneFindingAreToldOnce() {
+    pb::PalletConfig p;
+    const pb::SkuTemplate& sku = *pb::Catalog::builtin().find("SKU-FM-001");
+    for (int i = 0; i < 6; ++i) {
+      p.items.push_back(pb::make_item(sku, {0, 0, 0.15 + sku.dims_m[2] * i}));
+      p.items.back().weight_kg *= 2.0;
+    }
+    QTemporaryDir dir;
+    const QString path = dir.filePath(QStringLiteral("heavy.json"));
+    QVERIFY(write_all(path, PalletDocument::serialize(p)));
+    PalletDocument doc;
+    const auto outcome = doc.open(path);
+    QVERIFY(outcome.ok);
+    const QString text = outcome.messages.join(u'\n');
+    QVERIFY2(text.contains(u"/items/2/weight_kg") && !text.contains(u"/items/3/weight_kg") &&
+                 text.contains(u"/items/*/weight_kg: the same for 3 more items: 3-5"),
+             qPrintable(text));
+  }
+
   // A scenario file opens as its pallet, with no file to save to (never overwritten).
   void scenarioFileOpensWithoutAPath() {
     const pb::Scenario s = scenario("top-heavy-surprise");
