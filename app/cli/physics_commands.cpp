@@ -204,6 +204,9 @@ int run_solve(const Args& args) {
   const ConveyorProfile profile = profile_from(args, input->suggested_profile);
   const Diagnostics problems =
       at_flags(validate_profile(profile, "/profile"), args, input->suggested_profile);
+  // A bad profile is not run, so the pallet's errors are told with it (the run would refuse them
+  // next): both are fixed at once.
+  if (has_errors(problems)) print_diagnostics(located(errors_of(validate(input->pallet)), *input));
   print_diagnostics(problems);  // errors, and a warning when the run ends mid-motion
   if (has_errors(problems)) return kExitBadInput;
   std::optional<std::ofstream> replay_file;

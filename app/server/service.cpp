@@ -272,6 +272,35 @@ bool holds_response(const std::variant<T, Response>& v) {
   return std::holds_alternative<Response>(v);
 }
 
+/// A member's refusal, or nullptr when it was read.
+template <class T>
+const Response* refusal_in(const std::variant<T, Response>& v) {
+  return std::get_if<Response>(&v);
+}
+
+/// One answer for a request whose members were each read on their own (a pallet and a profile,
+/// a pallet and its grids): the first refusal, with the errors of every later member that is
+/// unprocessable too (both 422) added to its "errors" and "detail", so that a client fixes them
+/// all at once rather than learning of the next after fixing the first. nullopt: all were read.
+std::optional<Response> refusal_of(std::initializer_list<const Response*> refusals) {
+  std::optional<Response> out;
+  Json merged;
+  for (const Response* r : refusals) {
+    if (r == nullptr) continue;
+    if (!out) {
+      out = *r;
+      if (r->status == 422) merged = Json::parse(r->body);
+    } else if (out->status == 422 && r->status == 422) {
+      const Json more = Json::parse(r->body);
+      merged["detail"] =
+          merged["detail"].get<std::string>() + "; " + more["detail"].get<std::string>();
+      for (const Json& e : more["errors"]) merged["errors"].push_back(e);
+      *out = json_response(422, merged);
+    }
+  }
+  return out;
+}
+
 /// The body's "profile", read and validated, with its warnings. `strict` (a /v1/ route): the
 /// profile is required and a member a profile does not have is refused at its pointer, as the
 /// body's own unknown members are ("speed_mps" for "target_speed_mps" would otherwise leave the
@@ -646,10 +675,9 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       }
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", reading);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
-    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
     auto read = read_profile(body, !reference);
-    if (holds_response(read)) return std::get<Response>(read);
+    if (auto refused = refusal_of({refusal_in(pallet), refusal_in(read)})) return *refused;
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
     const Result<ConveyorProfile>& profile_read = std::get<Result<ConveyorProfile>>(read);
     const ConveyorProfile& profile = *profile_read.value;
     if (body.contains("thresholds") && !body["thresholds"].is_null()) {
@@ -791,24 +819,33 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     }
     std::string prefix;
     auto pallet = read_pallet(pallet_member(body, prefix), prefix, reading);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
     MapOptions grids;
+    Diagnostics bad_grids;
     for (auto [key, grid] : {std::pair{"speeds_mps", &grids.speeds_mps},
                              std::pair{"accels_mps2", &grids.accels_mps2}}) {
       if (prefix.empty() || !body.contains(key)) continue;
       const Json& v = body[key];
+      const std::string at = std::string("/") + key;
       if (!v.is_array() || v.empty() || v.size() > 64) {
-        const std::string what = "must be an array of 1 to 64 numbers (absent: the default grid)";
-        return error_response(422, std::string("/") + key + " " + what,
-                              {{std::string("/") + key, what, Severity::error}});
+        bad_grids.push_back({at, "must be an array of 1 to 64 numbers (absent: the default grid)",
+                             Severity::error});
+        continue;
       }
+      const std::size_t before = bad_grids.size();
       for (std::size_t i = 0; i < v.size(); ++i) {
         if (v[i].is_number()) continue;
-        const std::string at = std::string("/") + key + "/" + std::to_string(i);
-        const std::string what = "must be a number, not " + std::string(v[i].type_name());
-        return error_response(422, at + " " + what, {{at, what, Severity::error}});
+        bad_grids.push_back({at + "/" + std::to_string(i),
+                             "must be a number, not " + std::string(v[i].type_name()),
+                             Severity::error});
       }
-      *grid = v.get<std::vector<double>>();
+      if (bad_grids.size() == before) *grid = v.get<std::vector<double>>();
+    }
+    const std::optional<Response> grids_refused =
+        bad_grids.empty() ? std::nullopt
+                          : std::optional<Response>(diagnostics_response(422, bad_grids));
+    if (auto refused =
+            refusal_of({refusal_in(pallet), grids_refused ? &*grids_refused : nullptr})) {
+      return *refused;
     }
     auto ticket = ticket_for(request);
     std::optional<Result<FailureMap>> map;
@@ -842,9 +879,8 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
       return *refused;
     }
     auto pallet = read_pallet(body["pallet"], "/pallet", reading);
-    if (holds_response(pallet)) return std::get<Response>(pallet);
     auto read = read_profile(body, true);
-    if (holds_response(read)) return std::get<Response>(read);
+    if (auto refused = refusal_of({refusal_in(pallet), refusal_in(read)})) return *refused;
     const ConveyorProfile profile = *std::get<Result<ConveyorProfile>>(read).value;
     auto samples = number_member(body, "samples", 32, 1, options_.max_uncertainty_samples, true);
     if (holds_response(samples)) return std::get<Response>(samples);

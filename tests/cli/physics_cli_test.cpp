@@ -330,6 +330,13 @@ class PhysicsCliTest : public QObject {
     QCOMPARE(r.exit_code, 2);
     QVERIFY(r.out.isEmpty());
     QVERIFY2(r.err.contains("/items/0/weight_kg: "), r.err.constData());
+    // With a bad profile too, both are told at once.
+    Run both = cli({QStringLiteral("solve"), QStringLiteral("-"), QStringLiteral("--speed"),
+                    QStringLiteral("-3"), QStringLiteral("--accel"), QStringLiteral("1")},
+                   bytes(with_bad_weight(two_cartons())));
+    QCOMPARE(both.exit_code, 2);
+    QVERIFY2(both.err.contains("/items/0/weight_kg: ") && both.err.contains("--speed: -3"),
+             both.err.constData());
   }
 
   // ---- analyze ----

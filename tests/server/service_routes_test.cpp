@@ -558,6 +558,35 @@ class ServiceRoutesTest : public QObject {
     QVERIFY2(warned, s["warnings"].dump().c_str());
   }
 
+  // A request with a bad pallet and a bad profile (or grid) is refused with both, so the client
+  // fixes them at once.
+  void every_bad_member_of_a_request_is_named_at_once() {
+    Json bad = Json::parse(pallet_of(*client_, "stable-dairy-slab"));
+    bad["items"][0]["weight_kg"] = -1.0;
+    const std::string pallet = bad.dump();
+    auto pointers = [](const httplib::Result& res) {
+      std::vector<std::string> out;
+      const Json body = body_of(res);
+      for (const Json& e : body["errors"]) out.push_back(e["pointer"]);
+      return out;
+    };
+    using Pointers = std::vector<std::string>;
+    for (const char* route : {"/solve", "/v1/solve", "/v1/uncertainty"}) {
+      auto res = post_wrapped(*client_, route, R"("profile": {"target_speed_mps": -3})", pallet);
+      QCOMPARE(res->status, 422);
+      QCOMPARE(pointers(res), Pointers({"/pallet/items/0/weight_kg", "/profile/target_speed_mps"}));
+      const std::string detail = body_of(res)["detail"];
+      QVERIFY2(detail.find("weight_kg") != std::string::npos &&
+                   detail.find("target_speed_mps") != std::string::npos,
+               detail.c_str());
+    }
+    auto map = post_wrapped(*client_, "/v1/map",
+                            R"("speeds_mps": [], "accels_mps2": [1, "x", null])", pallet);
+    QCOMPARE(map->status, 422);
+    QCOMPARE(pointers(map), Pointers({"/pallet/items/0/weight_kg", "/speeds_mps", "/accels_mps2/1",
+                                      "/accels_mps2/2"}));
+  }
+
   // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers; a
   // body a web page may POST to any origin without asking (text/plain, a form) is refused (415).
   void counts_grids_and_content_types_are_checked() {
