@@ -220,12 +220,13 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
   s.Put(".*", with_body);
   s.Delete(".*", with_body);
   s.Patch(".*", with_body);
-  s.Options(".*", [cors, origins](const httplib::Request& req, httplib::Response& res) {
-    cors(req, res);  // a preflight: what a browser may send
-    res.set_header("Access-Control-Allow-Methods", "GET, POST, OPTIONS");
+  // A preflight: the service says which methods the path answers (204; a path with no route is
+  // a 404), and a browser may send any header.
+  s.Options(".*", [handle](const httplib::Request& req, httplib::Response& res) {
+    handle(req, req.body, res);
+    if (res.status != 204) return;
     res.set_header("Access-Control-Allow-Headers", "*");
     res.set_header("Access-Control-Max-Age", "600");
-    res.status = 204;
   });
   // A body whose framing is wrong is refused before it is read, with Connection: close (the
   // client must not send on it; cpp-httplib 0.11 keeps it open and reads what follows as a request,

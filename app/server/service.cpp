@@ -1111,6 +1111,12 @@ Response Service::dispatch(const Request& request, std::string& route) {
   if (!allowed.empty()) {
     std::string list;
     for (const auto& m : allowed) list += (list.empty() ? "" : ", ") + m;
+    if (request.method == "OPTIONS") {  // what the path answers (a browser's preflight asks)
+      Response r;
+      r.status = 204;
+      r.headers["Allow"] = r.headers["Access-Control-Allow-Methods"] = list + ", OPTIONS";
+      return r;
+    }
     Response r = error_response(
         405, request.method + " is not allowed on " + request.path + "; use " + list);
     r.headers["Allow"] = list;

@@ -640,8 +640,15 @@ class ServiceRoutesTest : public QObject {
     QVERIFY(!client_->Get("/healthz", other)->has_header("Access-Control-Allow-Origin"));
     auto preflight = client_->Options("/safety/analyze", allowed);
     QCOMPARE(preflight->status, 204);
-    QVERIFY(preflight->get_header_value("Access-Control-Allow-Methods").find("POST") !=
-            std::string::npos);
+    QCOMPARE(preflight->get_header_value("Access-Control-Allow-Methods"), "POST, OPTIONS");
+    QCOMPARE(preflight->get_header_value("Access-Control-Allow-Origin"), "https://boothe.io");
+    QCOMPARE(client_->Options("/scenarios/stable-dairy-slab", allowed)
+                 ->get_header_value("Access-Control-Allow-Methods"),
+             "GET, OPTIONS");
+    // A path with no route is not found, preflight or not.
+    auto nowhere = client_->Options("/no/such/route", allowed);
+    QCOMPARE(nowhere->status, 404);
+    QVERIFY(!body_of(nowhere)["errors"].empty());
   }
 
  private:
