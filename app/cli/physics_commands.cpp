@@ -38,10 +38,15 @@ std::optional<PalletSource> pallet_arg(const std::string& arg) {
 }
 
 // Diagnostics of the core about a pallet, with pointers into the document it was read from. An
-// empty pointer is about no part of the input (the engine) and stays empty.
+// empty pointer is about no part of the input (the engine) and stays empty; the line's curve
+// radius is the flag that sets it.
 Diagnostics located(Diagnostics diagnostics, const PalletSource& input) {
   for (auto& d : diagnostics) {
-    if (!d.pointer.empty()) d.pointer = input.pointer_prefix + d.pointer;
+    if (d.pointer == kLineRadiusPointer) {
+      d.pointer = "--curve-radius";
+    } else if (!d.pointer.empty()) {
+      d.pointer = input.pointer_prefix + d.pointer;
+    }
   }
   return diagnostics;
 }

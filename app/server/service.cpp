@@ -89,12 +89,16 @@ Response refusal_response(const Refusal& refusal, const Ticket& ticket) {
 }
 
 /// Core diagnostics of a pallet read at `prefix`: pointers moved into the request's document. The
-/// Analyzer's "/profile/..." already is the request's profile (read at /profile), and
-/// "/line/..." the service's line (--curve-radius, --estop-decel): neither is the pallet's.
+/// Analyzer's "/profile/..." already is the request's profile (read at /profile). The line is the
+/// service's (--curve-radius), which no request sets: what it says is about the whole request.
 Diagnostics located(Diagnostics diagnostics, const std::string& prefix) {
   for (auto& d : diagnostics) {
-    const bool outside = d.pointer.starts_with("/profile/") || d.pointer.starts_with("/line/");
-    if (!d.pointer.empty() && !outside) d.pointer = prefix + d.pointer;
+    if (d.pointer == kLineRadiusPointer) {
+      d.pointer.clear();
+      d.message = "this service's line (its --curve-radius) cannot carry this pallet: " + d.message;
+    } else if (!d.pointer.empty() && !d.pointer.starts_with("/profile/")) {
+      d.pointer = prefix + d.pointer;
+    }
   }
   return diagnostics;
 }
@@ -175,6 +179,13 @@ PalletFindings check_pallet(const Json& json, const std::string& prefix,
     }
   }
   return {std::nullopt, std::move(*pallet.value), std::move(diags)};
+}
+
+/// A valid pallet's findings from the service's line (--curve-radius): an analysis refuses a
+/// pallet its curves would turn about a point under it, so its validation says so too.
+Diagnostics line_findings(const PalletConfig& config, const PalletReading& reading) {
+  return located(
+      validate_curve_radius(config, reading.analyzer.line.curve_radius_m, kLineRadiusPointer), "");
 }
 
 /// A valid pallet, or the response that refuses it (see check_pallet).
@@ -603,7 +614,11 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     std::string prefix;  // a pallet on its own, or wrapped as every /v1 route and the CLI take it
     auto pallet = read_pallet(pallet_member(std::get<Json>(body), prefix), prefix, reading);
     if (holds_response(pallet)) return std::get<Response>(pallet);
-    return json_response(200, pallet_to_json(*std::get<Result<PalletConfig>>(pallet)));
+    const PalletConfig& config = *std::get<Result<PalletConfig>>(pallet);
+    if (Diagnostics line = line_findings(config, reading); has_errors(line)) {
+      return diagnostics_response(422, line);
+    }
+    return json_response(200, pallet_to_json(config));
   });
   post("/v1/validate", [reading](const Request& request, const Params&) {
     auto body = parse_body(request);
@@ -613,8 +628,13 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     const Json& pj = pallet_member(std::get<Json>(body), prefix);
     // An invalid pallet is still a report (200): what is wrong, where, and its warnings too (the
     // CLI's validate lists them; a 422 carries errors only).
-    const PalletFindings found = check_pallet(pj, prefix, reading);
+    PalletFindings found = check_pallet(pj, prefix, reading);
     if (found.config) {
+      if (!has_errors(found.diagnostics)) {
+        for (Diagnostic& d : line_findings(*found.config, reading)) {
+          found.diagnostics.push_back(std::move(d));
+        }
+      }
       return json_response(
           200, validation_report_to_json(*found.config, found.diagnostics, reading.max_items));
     }

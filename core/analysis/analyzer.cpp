@@ -225,7 +225,7 @@ bool Analyzer::grow_buffers(std::string key, const Diagnostics& why) {
 }
 
 Diagnostics Analyzer::line_radius_problem(const PalletConfig& config) const {
-  return validate_curve_radius(config, options_.line.curve_radius_m, "/line/curve_radius_m");
+  return validate_curve_radius(config, options_.line.curve_radius_m, kLineRadiusPointer);
 }
 
 Result<Envelope> Analyzer::envelope(const PalletConfig& config) {

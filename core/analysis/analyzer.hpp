@@ -95,6 +95,10 @@ struct Solve {
   Replay replay;
 };
 
+/// Where a diagnostic about the line's curve radius points (AnalyzerOptions::line: not part of a
+/// pallet; a client names its own setting, the CLI's and the service's --curve-radius).
+inline constexpr const char* kLineRadiusPointer = "/line/curve_radius_m";
+
 /// Not thread-safe: one Analyzer per thread (the console runs its own on a worker thread).
 class Analyzer {
  public:
@@ -162,7 +166,7 @@ class Analyzer {
   std::unique_ptr<PlaneModel> plane_model(const PalletConfig& config, ProbePlane plane,
                                           const SceneOptions& scene_options);
 
-  /// The line's curve radius against this pallet (validate_curve_radius at /line/curve_radius_m).
+  /// The line's curve radius against this pallet (validate_curve_radius at kLineRadiusPointer).
   Diagnostics line_radius_problem(const PalletConfig& config) const;
 
   /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops

@@ -475,6 +475,13 @@ class PhysicsCliTest : public QObject {
                      QStringLiteral("--estop-decel"), QStringLiteral("hard")});
     QCOMPARE(decel.exit_code, 2);
     QVERIFY(decel.err.contains("--estop-decel expects a number"));
+    // A line too tight for the pallet names the flag that sets it, not a member of the file.
+    Run tight = cli({QStringLiteral("analyze"), QStringLiteral("stable-dairy-slab"),
+                     QStringLiteral("--curve-radius"), QStringLiteral("0.3")});
+    QCOMPARE(tight.exit_code, 2);
+    QVERIFY2(tight.err.contains("stable-dairy-slab: --curve-radius: a curve of radius 0.3 m") &&
+                 !tight.err.contains("/line/"),
+             tight.err.constData());
     Run missing = cli({QStringLiteral("analyze"), QStringLiteral("no-such-file.json")});
     QCOMPARE(missing.exit_code, 2);
     const QJsonArray list = missing.json().array();

@@ -393,6 +393,31 @@ class ServiceRoutesTest : public QObject {
     QVERIFY(error["message"].get<std::string>().find("more than 0.4 m") != std::string::npos);
   }
 
+  // A service whose own line is too tight for a pallet (--curve-radius) says so at the whole
+  // request, naming its setting, and its validation says what its analysis would; a run of a
+  // straight profile, which takes no curve, still runs.
+  void a_service_line_too_tight_for_the_pallet_is_named() {
+    ServerProcess tight(QStringList{"--curve-radius", "0.3"});
+    QVERIFY2(tight.port() > 0, "the server did not start");
+    auto client = tight.client();
+    const std::string pallet = pallet_of(*client, "stable-dairy-slab");
+    for (const char* route : {"/v1/analyze", "/safety/analyze", "/pallet/validate"}) {
+      auto res = client->Post(route, pallet, kJson);
+      QCOMPARE(res->status, 422);
+      const Json error = body_of(res)["errors"][0];
+      QCOMPARE(error["pointer"].get<std::string>(), std::string());
+      QVERIFY2(error["message"].get<std::string>().find("--curve-radius") != std::string::npos &&
+                   error["message"].get<std::string>().find("more than 0.4 m") != std::string::npos,
+               res->body.c_str());
+    }
+    const Json report = body_of(client->Post("/v1/validate", pallet, kJson));
+    QCOMPARE(report["valid"], false);
+    QCOMPARE(report["errors"].size(), 1u);
+    auto straight = post_wrapped(*client, "/v1/solve",
+                                 R"("profile": {"target_speed_mps": 1, "accel_mps2": 1})", pallet);
+    QCOMPARE(straight->status, 200);
+  }
+
   void bad_requests() {
     auto not_json = client_->Post("/safety/analyze", "{pallet", kJson);
     QCOMPARE(not_json->status, 400);
