@@ -299,9 +299,11 @@ FileAnalysis analyze_file(Analyzer& analyzer, const std::string& source, bool wi
   // The analysis's own warnings, less those just printed (the closed-form level returns
   // validate's).
   auto print_new_warnings = [&](const Diagnostics& diagnostics) {
+    Diagnostics fresh;
     for (const Diagnostic& d : warnings_of(located(diagnostics, *input))) {
-      if (std::find(warned.begin(), warned.end(), d) == warned.end()) print_for(source, {d});
+      if (std::find(warned.begin(), warned.end(), d) == warned.end()) fresh.push_back(d);
     }
+    print_for(source, fresh);  // condensed together, as the others
   };
   Json entry;
   if (with_probes) {

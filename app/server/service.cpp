@@ -184,8 +184,7 @@ PalletFindings check_pallet(const Json& json, const std::string& prefix,
 /// A valid pallet's findings from the service's line (--curve-radius): an analysis refuses a
 /// pallet its curves would turn about a point under it, so its validation says so too.
 Diagnostics line_findings(const PalletConfig& config, const PalletReading& reading) {
-  return located(
-      validate_curve_radius(config, reading.analyzer.line.curve_radius_m, kLineRadiusPointer), "");
+  return located(Analyzer(reading.analyzer).line_radius_problem(config), "");
 }
 
 /// A valid pallet, or the response that refuses it (see check_pallet).

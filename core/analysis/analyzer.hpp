@@ -114,6 +114,10 @@ class Analyzer {
   /// holds (capacity_problems) at the model level this analyzer would choose. Empty when it can be.
   Diagnostics simulation_problems(const PalletConfig& config) const;
 
+  /// The line's curve radius against this pallet (validate_curve_radius at kLineRadiusPointer):
+  /// what an envelope or a failure map refuses before it simulates.
+  Diagnostics line_radius_problem(const PalletConfig& config) const;
+
   /// The full SafetyResult (cached: a second call costs about a millisecond and reports 0 sims).
   Result<SafetyResult> analyze(const PalletConfig& config);
   /// The envelope with its probes (not cached).
@@ -165,9 +169,6 @@ class Analyzer {
   /// the load does not reduce or the reduced model cannot be settled (the full model then runs).
   std::unique_ptr<PlaneModel> plane_model(const PalletConfig& config, ProbePlane plane,
                                           const SceneOptions& scene_options);
-
-  /// The line's curve radius against this pallet (validate_curve_radius at kLineRadiusPointer).
-  Diagnostics line_radius_problem(const PalletConfig& config) const;
 
   /// After a contact or constraint buffer overflow (`why`): doubles the pallet's buffers, drops
   /// its prepared scene and says to run again; false when `why` is something else or the buffers

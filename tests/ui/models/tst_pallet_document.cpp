@@ -48,6 +48,15 @@ bool write_all(const QString& path, const QByteArray& bytes) {
 
 const QString kSku = QStringLiteral("SKU-FM-001");  // 0.40 x 0.30 x 0.20 m, 10.5 kg
 
+// `pallet` written to a file of its own and opened in `doc`: what File > Open gives.
+pb::ui::FileOutcome open_written(PalletDocument& doc, const pb::PalletConfig& pallet) {
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("pallet.json"));
+  if (!write_all(path, PalletDocument::serialize(pallet)))
+    return {false, {QStringLiteral("cannot write")}};
+  return doc.open(path);
+}
+
 }  // namespace
 
 class TestPalletDocument : public QObject {
@@ -395,11 +404,8 @@ class TestPalletDocument : public QObject {
     pb::PalletConfig p;
     p.items.push_back(pb::make_item(*pb::Catalog::builtin().find("SKU-FM-001"), {0, 0, 0.15}));
     p.items.push_back(pb::make_item(*pb::Catalog::builtin().find("SKU-FM-001"), {0.1, 0, 0.15}));
-    QTemporaryDir dir;
-    const QString path = dir.filePath(QStringLiteral("overlap.json"));
-    QVERIFY(write_all(path, PalletDocument::serialize(p)));
     PalletDocument doc;
-    const auto outcome = doc.open(path);
+    const auto outcome = open_written(doc, p);
     QVERIFY(outcome.ok);
     QVERIFY(!doc.isValid());
     QVERIFY2(outcome.messages.join(u'\n').contains(u"/items/1"),
@@ -415,11 +421,8 @@ class TestPalletDocument : public QObject {
       p.items.push_back(pb::make_item(sku, {0, 0, 0.15 + sku.dims_m[2] * i}));
       p.items.back().weight_kg *= 2.0;
     }
-    QTemporaryDir dir;
-    const QString path = dir.filePath(QStringLiteral("heavy.json"));
-    QVERIFY(write_all(path, PalletDocument::serialize(p)));
     PalletDocument doc;
-    const auto outcome = doc.open(path);
+    const auto outcome = open_written(doc, p);
     QVERIFY(outcome.ok);
     const QString text = outcome.messages.join(u'\n');
     QVERIFY2(text.contains(u"/items/2/weight_kg") && !text.contains(u"/items/3/weight_kg") &&
