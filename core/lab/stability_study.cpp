@@ -171,9 +171,10 @@ std::vector<StabilityCase> stability_cases() {
     pgs.solver = Solver::pgs;
     out.push_back(
         make("pgs-slender", solver, "PGS, 100 iterations", "slender", pgs, false, C::correct));
-    pgs.iterations = 5;
-    out.push_back(make("pgs-5-iterations-slender", solver,
-                       "PGS, 5 iterations (not converged: the load never comes to rest)", "slender",
+    pgs.iterations = 1;
+    // 5 iterations were broken in the pyramidal cone; the elliptic one rests on them.
+    out.push_back(make("pgs-1-iteration-slender", solver,
+                       "PGS, 1 iteration (not converged: the load never comes to rest)", "slender",
                        pgs, true, C::detected_unstable));
     SceneOptions cg;
     cg.solver = Solver::cg;
@@ -200,14 +201,15 @@ std::vector<StabilityCase> stability_cases() {
   const std::string cone = "friction cone";
   for (const char* pallet : {"carton", "slender"}) {
     SceneOptions s;
-    s.cone = Cone::elliptic;
-    out.push_back(make(std::string("elliptic-") + pallet, cone, "elliptic, impratio 1", pallet, s,
-                       false, C::correct));
+    out.push_back(make(std::string("elliptic-") + pallet, cone, "elliptic, impratio 1 (shipped)",
+                       pallet, s, false, C::correct));
     s.impratio = 10.0;
     out.push_back(make(std::string("elliptic-impratio-10-") + pallet, cone, "elliptic, impratio 10",
                        pallet, s, false, C::correct));
-    out.push_back(make(std::string("pyramidal-") + pallet, cone, "pyramidal (shipped)", pallet, {},
-                       false, C::correct));
+    s = {};
+    s.cone = Cone::pyramidal;
+    out.push_back(
+        make(std::string("pyramidal-") + pallet, cone, "pyramidal", pallet, s, false, C::correct));
   }
   return out;
 }

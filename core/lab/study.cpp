@@ -146,6 +146,7 @@ AnalyzerOptions reference_equivalent_options() {
   AnalyzerOptions o;
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
+  o.scene.cone = Cone::pyramidal;  // MuJoCo's default, which the reference system keeps
   o.full_model_timestep_s.reset();
   o.full_model_solref_s.reset();
   o.search.seed_with_closed_form = false;
@@ -185,9 +186,9 @@ std::vector<StudyConfig> study_configs() {
   out.push_back(make("full-2ms", "full model, 2 ms (the default's settings, forced full)",
                      at(Fidelity::full, 0.002)));
   out.push_back(make("full-5ms", "full model, 5 ms", at(Fidelity::full, 0.005)));
-  AnalyzerOptions elliptic = at(Fidelity::full, 0.002);
-  elliptic.scene.cone = Cone::elliptic;
-  out.push_back(make("full-2ms-elliptic", "full model, 2 ms, elliptic cone", elliptic));
+  AnalyzerOptions pyramidal = at(Fidelity::full, 0.002);
+  pyramidal.scene.cone = Cone::pyramidal;
+  out.push_back(make("full-2ms-pyramidal", "full model, 2 ms, MuJoCo's pyramidal cone", pyramidal));
   AnalyzerOptions soft = at(Fidelity::full, 0.002);
   soft.scene.contact_solimp = {0.9, 0.95, 0.001, 0.5, 2.0};
   out.push_back(
@@ -234,6 +235,12 @@ std::vector<StudyConfig> study_configs() {
                        "the default with the full model at " + ms + " ms (solref 0.01)",
                        coarse_dt));
   }
+  AnalyzerOptions pyramid;  // the shipped default in MuJoCo's pyramidal cone (until session 28)
+  pyramid.scene.cone = Cone::pyramidal;
+  out.push_back(make("default-pyramidal",
+                     "the default in MuJoCo's pyramidal cone (a load near its onset chatters; the "
+                     "model until session 28)",
+                     pyramid));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;

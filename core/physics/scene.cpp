@@ -187,7 +187,8 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   const double want = o.buffer_scale * double(6 * stacked + (p.pairs.size() - stacked) + 8 +
                                               (o.aftermath ? 4 * n : 0));
   p.sizes.nconmax = o.nconmax > 0 ? o.nconmax : static_cast<int>(std::ceil(want));
-  p.sizes.njmax = o.njmax > 0 ? o.njmax : 4 * p.sizes.nconmax + 6 * p.welds;
+  const int rows = o.cone == Cone::pyramidal ? 4 : 3;  // a condim-3 contact's constraint rows
+  p.sizes.njmax = o.njmax > 0 ? o.njmax : rows * p.sizes.nconmax + 6 * p.welds;
   const auto free =
       static_cast<double>(std::count(p.rigid.carrier.begin(), p.rigid.carrier.end(), kFreeItem));
   const double nv = 2 + 6 + 6 * free;  // the belt's two slides, the pallet's and items' free joints

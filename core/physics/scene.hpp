@@ -29,7 +29,9 @@ struct SceneOptions {
   double timestep_s = 0.002;
   Integrator integrator = Integrator::euler;  ///< implicit adds false creep with a velocity belt
   Solver solver = Solver::newton;
-  Cone cone = Cone::pyramidal;
+  /// Coulomb's circular cone. MuJoCo's pyramid (n +- mu t_i) turns a loaded contact's creep into
+  /// normal motion: a load held near its onset chatters (core/README.md "The friction cone").
+  Cone cone = Cone::elliptic;
   double impratio = 1.0;
   int iterations = 100;
   double tolerance = 1e-8;

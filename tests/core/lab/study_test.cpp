@@ -132,7 +132,7 @@ class StudyTest : public QObject {
       return options_fingerprint(o) != base;
     };
     QVERIFY(differs([](AnalyzerOptions& o) { o.scene.timestep_s = 0.001; }));
-    QVERIFY(differs([](AnalyzerOptions& o) { o.scene.cone = Cone::elliptic; }));
+    QVERIFY(differs([](AnalyzerOptions& o) { o.scene.cone = Cone::pyramidal; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.scene.solver = Solver::pgs; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.scene.contact_solref[0] = 0.01; }));
     QVERIFY(differs([](AnalyzerOptions& o) { o.search.accel_precision_mps2 = 0.05; }));

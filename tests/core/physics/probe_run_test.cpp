@@ -236,8 +236,9 @@ class ProbeRunTest : public QObject {
   // in a 0.14 g curve creeps at 1.7 mm/s all through the arc. It jumps (skip_creeping) over most of
   // the arc carrying its creep, and ends where full stepping does: the same verdict, the peak ratio
   // within 0.005, every item where full stepping has it at the jump's end within 0.5 mm (relative
-  // to the pallet, as the detectors see them). Co-moving alone skips none of it. Near its limit
-  // (0.219 g) the tower sways all through the arc: no jump.
+  // to the pallet, as the detectors see them). Co-moving alone skips none of it. Within a step of
+  // its limit (0.230 g; its top carton slides off at 0.235) the tower is not steady through the
+  // arc: no jump. (In MuJoCo's pyramidal cone it chattered all through the arc from 0.219 g.)
   void aCreepingLoadJumpsCarryingItsCreep() {
     auto scenario = load_scenario("tall-unwrapped-tower");
     QVERIFY(scenario.ok());
@@ -293,7 +294,7 @@ class ProbeRunTest : public QObject {
     // Over the jump full stepping's items crept this far: the jump kept it.
     QVERIFY2(crept > 2e-3, qPrintable(QString("the load crept %1 m").arg(crept)));
 
-    const SimResult near = p.simulator->run(p.rest, lateral_probe_profile(0.219, {}, {}), creep);
+    const SimResult near = p.simulator->run(p.rest, lateral_probe_profile(0.230, {}, {}), creep);
     QCOMPARE(near.outcome, Outcome::safe);
     QCOMPARE(near.steps_skipped, 0);
   }

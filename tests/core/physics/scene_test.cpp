@@ -429,7 +429,7 @@ class SceneTest : public QObject {
     QCOMPARE(m->opt.timestep, 0.002);
     QCOMPARE(m->opt.integrator, static_cast<int>(mjINT_EULER));
     QCOMPARE(m->opt.solver, static_cast<int>(mjSOL_NEWTON));
-    QCOMPARE(m->opt.cone, static_cast<int>(mjCONE_PYRAMIDAL));
+    QCOMPARE(m->opt.cone, static_cast<int>(mjCONE_ELLIPTIC));
     QCOMPARE(m->opt.jacobian, static_cast<int>(mjJAC_SPARSE));
     // kv = ratio * M / dt: the belt reaches its command in one step.
     QCOMPARE(m->actuator_gainprm[0], 2000.0 / 0.002);
@@ -437,7 +437,7 @@ class SceneTest : public QObject {
     o.timestep_s = 0.001;
     o.integrator = Integrator::implicit;
     o.solver = Solver::cg;
-    o.cone = Cone::elliptic;
+    o.cone = Cone::pyramidal;
     o.impratio = 10.0;
     o.belt_mass_kg = 500.0;
     o.belt_kv_ratio = 0.5;
@@ -446,7 +446,7 @@ class SceneTest : public QObject {
     QCOMPARE(m2->opt.timestep, 0.001);
     QCOMPARE(m2->opt.integrator, static_cast<int>(mjINT_IMPLICIT));
     QCOMPARE(m2->opt.solver, static_cast<int>(mjSOL_CG));
-    QCOMPARE(m2->opt.cone, static_cast<int>(mjCONE_ELLIPTIC));
+    QCOMPARE(m2->opt.cone, static_cast<int>(mjCONE_PYRAMIDAL));
     QCOMPARE(m2->opt.impratio, 10.0);
     QCOMPARE(m2->actuator_gainprm[0], 0.5 * 500.0 / 0.001);
     QCOMPARE(m2->pair_solref[0], 0.005);
@@ -454,8 +454,8 @@ class SceneTest : public QObject {
   }
 
   // A resting stacked pair gets 6 contacts (4 at rest, 8 at most box-box), a side pair 1 (apart
-  // at rest), 8 more for the first collisions; 4 pyramidal rows a contact, 6 a weld; the stack
-  // holds Newton's three nv x nv arrays besides.
+  // at rest), 8 more for the first collisions; 3 rows a contact (elliptic; 4 in the pyramid), 6 a
+  // weld; the stack holds Newton's three nv x nv arrays besides.
   void buffersAreSizedFromTheScene() {
     const PalletConfig config =
         pallet({carton(-0.2, 0.0, 0.15), carton(0.2, 0.0, 0.15), carton(0.2, 0.0, 0.35)},
@@ -468,7 +468,7 @@ class SceneTest : public QObject {
     // Stacked: belt/pallet, pallet/item_0, pallet/item_1, item_1/item_2; side: item_0/item_1,
     // item_0/item_2 (their edges meet).
     QCOMPARE(m->nconmax, 6 * 4 + 2 + 8);
-    QCOMPARE(m->njmax, 4 * m->nconmax + 6 * 3);
+    QCOMPARE(m->njmax, 3 * m->nconmax + 6 * 3);
     QCOMPARE(m->nstack, 400000 + 200 * m->njmax + 3 * m->nv * m->nv);
     SceneOptions o;
     o.nconmax = 123;
@@ -679,8 +679,8 @@ class SceneTest : public QObject {
   void buffersFollowTheSceneAndTheEngineLimitIsNamed() {
     const PalletConfig two = pallet({carton(0, 0, 0.15), carton(0, 0, 0.35)});
     const BufferSizes small = scene_buffer_sizes(two, {});
-    QCOMPARE(small.nconmax, 6 * 3 + 8);  // belt/pallet, pallet/item 0, item 0/item 1
-    QCOMPARE(small.njmax, 4 * small.nconmax);
+    QCOMPARE(small.nconmax, 6 * 3 + 8);        // belt/pallet, pallet/item 0, item 0/item 1
+    QCOMPARE(small.njmax, 3 * small.nconmax);  // elliptic: 3 rows a contact
     SceneOptions grown;
     grown.buffer_scale = 2.0;
     QCOMPARE(scene_buffer_sizes(two, grown).nconmax, 2 * small.nconmax);
