@@ -520,7 +520,7 @@ std::vector<Command> study_commands() {
           "comma-separated configurations (default all; the reference is "
           "always run): reference, default, reference-equivalent, closed-form, "
           "reduced-2ms, reduced-5ms, full-1ms, full-2ms, full-5ms, "
-          "full-2ms-pyramidal, full-2ms-soft, full-2ms-implicit, full-2ms-cg, "
+          "full-2ms-pyramidal, full-2ms-soft, full-2ms-implicit, full-2ms-newton, "
           "full-2ms-pgs, "
           "default-coarse"},
          {"out", "DIR",

@@ -124,6 +124,7 @@ AnalyzerOptions reference_options() {
   o.full_model_timestep_s.reset();
   o.full_model_solref_s.reset();
   o.scene.contact_solref = {0.005, 1.0};
+  o.scene.solver = Solver::newton;  // converged Newton
   o.scene.iterations = 1000;
   o.scene.tolerance = 1e-12;
   o.search = fine_search(o.search);
@@ -146,7 +147,9 @@ AnalyzerOptions reference_equivalent_options() {
   AnalyzerOptions o;
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
-  o.scene.cone = Cone::pyramidal;  // MuJoCo's default, which the reference system keeps
+  o.scene.cone = Cone::pyramidal;  // MuJoCo's defaults, which the reference system keeps
+  o.scene.solver = Solver::newton;
+  o.scene.iterations = 100;
   o.full_model_timestep_s.reset();
   o.full_model_solref_s.reset();
   o.search.seed_with_closed_form = false;
@@ -198,9 +201,9 @@ std::vector<StudyConfig> study_configs() {
   out.push_back(make("full-2ms-implicit",
                      "full model, 2 ms, implicit integrator (false belt creep, 2.4-3.7x per step)",
                      implicit));
-  AnalyzerOptions cg = at(Fidelity::full, 0.002);
-  cg.scene.solver = Solver::cg;
-  out.push_back(make("full-2ms-cg", "full model, 2 ms, CG solver", cg));
+  AnalyzerOptions newton = at(Fidelity::full, 0.002);
+  newton.scene.solver = Solver::newton;
+  out.push_back(make("full-2ms-newton", "full model, 2 ms, Newton solver", newton));
   AnalyzerOptions pgs = at(Fidelity::full, 0.002);
   pgs.scene.solver = Solver::pgs;
   out.push_back(make("full-2ms-pgs", "full model, 2 ms, PGS solver (slow)", pgs));
@@ -235,12 +238,21 @@ std::vector<StudyConfig> study_configs() {
                        "the default with the full model at " + ms + " ms (solref 0.01)",
                        coarse_dt));
   }
-  AnalyzerOptions pyramid;  // the shipped default in MuJoCo's pyramidal cone (until session 28)
+  AnalyzerOptions pyramid;  // the shipped default until session 28: pyramid, Newton
   pyramid.scene.cone = Cone::pyramidal;
+  pyramid.scene.solver = Solver::newton;
+  pyramid.scene.iterations = 100;
   out.push_back(make("default-pyramidal",
-                     "the default in MuJoCo's pyramidal cone (a load near its onset chatters; the "
-                     "model until session 28)",
+                     "the default in MuJoCo's pyramidal cone, solved by Newton (a load near its "
+                     "onset chatters; the model until session 28)",
                      pyramid));
+  AnalyzerOptions newton_default;  // the shipped default solved by Newton (until session 28)
+  newton_default.scene.solver = Solver::newton;
+  out.push_back(
+      make("default-newton",
+           "the default solved by Newton (dearer per step in large interlocked loads; the "
+           "solver until session 28)",
+           newton_default));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;

@@ -398,6 +398,7 @@ class AnalyzerTest : public QObject {
   void confirmedLimitsHoldAlongASecondPath() {
     AnalyzerOptions plain_options, confirmed_options;
     plain_options.scene.cone = confirmed_options.scene.cone = Cone::pyramidal;
+    plain_options.scene.solver = confirmed_options.scene.solver = Solver::newton;
     confirmed_options.search.confirm_limits = true;
     Analyzer plain(plain_options, FrictionModel::builtin());
     Analyzer confirmed(confirmed_options, FrictionModel::builtin());

@@ -769,7 +769,8 @@ class EnvelopeTest : public QObject {
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3102.json");
     QVERIFY(source.ok());
     AnalyzerOptions pyramid;
-    pyramid.scene.cone = Cone::pyramidal;
+    pyramid.scene.cone = Cone::pyramidal;  // and Newton: the model they were found in
+    pyramid.scene.solver = Solver::newton;
     Analyzer analyzer(pyramid);
     auto prepared = analyzer.prepare(source->pallet);
     QVERIFY(prepared.ok());
@@ -809,7 +810,8 @@ class EnvelopeTest : public QObject {
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3003.json");
     QVERIFY(source.ok());
     AnalyzerOptions pyramid;
-    pyramid.scene.cone = Cone::pyramidal;
+    pyramid.scene.cone = Cone::pyramidal;  // and Newton: the model they were found in
+    pyramid.scene.solver = Solver::newton;
     AnalyzerOptions unconfirmed = pyramid;
     unconfirmed.search.confirm_from_peak = 2.0;
     auto before = Analyzer(unconfirmed).envelope(source->pallet);

@@ -113,7 +113,9 @@ class ProbeRunTest : public QObject {
   // SimOptions::extrapolate_warmstart: another start for each step's constraint solve, which
   // converges to the same answer up to its tolerance. On a single carton (no multi-contact
   // stick-slip to amplify round-off) the outcome, mode and failure time are those of the usual
-  // path, and the carton ends within a micrometre of where it ends there.
+  // path, and the carton ends within half a millimetre of where it ends there (CG stops on a
+  // relative improvement of 1e-8: 0.25 mm apart after a 4.5 m/s^2 slide; Newton within a
+  // micrometre).
   void anotherWarmStartIsTheSameProbe() {
     auto r = rig();
     for (double accel : {1.0, 4.5}) {
@@ -130,7 +132,8 @@ class ProbeRunTest : public QObject {
       }
       const Vec3 pa = a.trace.items(a.trace.size() - 1)[0].pos;
       const Vec3 pb = b.trace.items(b.trace.size() - 1)[0].pos;
-      for (std::size_t k = 0; k < 3; ++k) QVERIFY(std::abs(pa[k] - pb[k]) < 1e-6);
+      for (std::size_t k = 0; k < 3; ++k)
+        QVERIFY2(std::abs(pa[k] - pb[k]) < 5e-4, qPrintable(QString::number(pa[k] - pb[k])));
     }
   }
 
@@ -233,8 +236,8 @@ class ProbeRunTest : public QObject {
 
   // MuJoCo's soft contacts creep at 1-3 mm/s under a sustained demand inside the friction cone, so
   // a load held in a curve never co-moves with the belt: tall-unwrapped-tower (curve limit 0.229 g)
-  // in a 0.14 g curve creeps at 1.7 mm/s all through the arc. It jumps (skip_creeping) over most of
-  // the arc carrying its creep, and ends where full stepping does: the same verdict, the peak ratio
+  // in a 0.20 g curve creeps all through the arc. It jumps (skip_creeping) over most of the arc
+  // carrying its creep, and ends where full stepping does: the same verdict, the peak ratio
   // within 0.005, every item where full stepping has it at the jump's end within 0.5 mm (relative
   // to the pallet, as the detectors see them). Co-moving alone skips none of it. Within a step of
   // its limit (0.230 g; its top carton slides off at 0.235) the tower is not steady through the
@@ -252,7 +255,7 @@ class ProbeRunTest : public QObject {
     comoving.skip_creeping = false;
     SimOptions full = creep;
     full.skip_comoving = false;
-    const ConveyorProfile held = lateral_probe_profile(0.14, {}, {});
+    const ConveyorProfile held = lateral_probe_profile(0.20, {}, {});
     const SimResult a = p.simulator->run(p.rest, held, creep);
     const SimResult b = p.simulator->run(p.rest, held, full);
     const SimResult c = p.simulator->run(p.rest, held, comoving);

@@ -428,7 +428,8 @@ class SceneTest : public QObject {
     ModelPtr m = compile(config);
     QCOMPARE(m->opt.timestep, 0.002);
     QCOMPARE(m->opt.integrator, static_cast<int>(mjINT_EULER));
-    QCOMPARE(m->opt.solver, static_cast<int>(mjSOL_NEWTON));
+    QCOMPARE(m->opt.solver, static_cast<int>(mjSOL_CG));
+    QCOMPARE(m->opt.iterations, 1000);
     QCOMPARE(m->opt.cone, static_cast<int>(mjCONE_ELLIPTIC));
     QCOMPARE(m->opt.jacobian, static_cast<int>(mjJAC_SPARSE));
     // kv = ratio * M / dt: the belt reaches its command in one step.
@@ -436,7 +437,7 @@ class SceneTest : public QObject {
     SceneOptions o;
     o.timestep_s = 0.001;
     o.integrator = Integrator::implicit;
-    o.solver = Solver::cg;
+    o.solver = Solver::newton;
     o.cone = Cone::pyramidal;
     o.impratio = 10.0;
     o.belt_mass_kg = 500.0;
@@ -445,7 +446,7 @@ class SceneTest : public QObject {
     ModelPtr m2 = compile(config, o);
     QCOMPARE(m2->opt.timestep, 0.001);
     QCOMPARE(m2->opt.integrator, static_cast<int>(mjINT_IMPLICIT));
-    QCOMPARE(m2->opt.solver, static_cast<int>(mjSOL_CG));
+    QCOMPARE(m2->opt.solver, static_cast<int>(mjSOL_NEWTON));
     QCOMPARE(m2->opt.cone, static_cast<int>(mjCONE_PYRAMIDAL));
     QCOMPARE(m2->opt.impratio, 10.0);
     QCOMPARE(m2->actuator_gainprm[0], 0.5 * 500.0 / 0.001);
