@@ -12,9 +12,7 @@ AnalyzerOptions reference_search_options() {
   AnalyzerOptions o;
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
-  o.scene.cone = Cone::pyramidal;  // MuJoCo's defaults, which the reference system keeps
-  o.scene.solver = Solver::newton;
-  o.scene.iterations = 100;
+  o.scene = with_mujoco_solver(o.scene);  // the reference system keeps MuJoCo's defaults
   o.full_model_timestep_s.reset();
   o.full_model_solref_s.reset();
   o.sim.early_stop = false;

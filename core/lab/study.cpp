@@ -147,9 +147,7 @@ AnalyzerOptions reference_equivalent_options() {
   AnalyzerOptions o;
   o.fidelity = Fidelity::full;
   o.scene.timestep_s = 0.002;
-  o.scene.cone = Cone::pyramidal;  // MuJoCo's defaults, which the reference system keeps
-  o.scene.solver = Solver::newton;
-  o.scene.iterations = 100;
+  o.scene = with_mujoco_solver(o.scene);  // the reference system keeps MuJoCo's defaults
   o.full_model_timestep_s.reset();
   o.full_model_solref_s.reset();
   o.search.seed_with_closed_form = false;
@@ -239,9 +237,7 @@ std::vector<StudyConfig> study_configs() {
                        coarse_dt));
   }
   AnalyzerOptions pyramid;  // the shipped default until session 28: pyramid, Newton
-  pyramid.scene.cone = Cone::pyramidal;
-  pyramid.scene.solver = Solver::newton;
-  pyramid.scene.iterations = 100;
+  pyramid.scene = with_mujoco_solver(pyramid.scene);
   out.push_back(make("default-pyramidal",
                      "the default in MuJoCo's pyramidal cone, solved by Newton (a load near its "
                      "onset chatters; the model until session 28)",

@@ -210,6 +210,13 @@ double BufferSizes::data_bytes() const {
          200.0 * nj;
 }
 
+SceneOptions with_mujoco_solver(SceneOptions o) {
+  o.cone = Cone::pyramidal;
+  o.solver = Solver::newton;
+  o.iterations = 100;
+  return o;
+}
+
 BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options) {
   const ContactFriction none{};
   return plan_scene(config, none, options).sizes;

@@ -30,10 +30,11 @@ struct SceneOptions {
   Integrator integrator = Integrator::euler;  ///< implicit adds false creep with a velocity belt
   /// Conjugate gradient: in the elliptic cone a third of an interlocked load's contacts sit in the
   /// cone's middle zone under a push, where Newton updates its Hessian per contact every
-  /// iteration (core/README.md "The solver").
+  /// iteration (core/README.md "The solver is conjugate gradient").
   Solver solver = Solver::cg;
   /// Coulomb's circular cone. MuJoCo's pyramid (n +- mu t_i) turns a loaded contact's creep into
-  /// normal motion: a load held near its onset chatters (core/README.md "The friction cone").
+  /// normal motion: a load held near its onset chatters (core/README.md "The friction cone is
+  /// Coulomb's circle").
   Cone cone = Cone::elliptic;
   double impratio = 1.0;
   /// A cap, not a count: CG converges in 10-60 iterations a step, up to about 230 on a 48-carton
@@ -91,6 +92,10 @@ struct SceneOptions {
 
   bool operator==(const SceneOptions&) const = default;
 };
+
+/// `o` with MuJoCo's own cone and solver (pyramid, Newton, 100 iterations): what the reference
+/// system runs, and the model until session 28.
+SceneOptions with_mujoco_solver(SceneOptions o);
 
 /// MuJoCo 2.2's preallocated buffers of a scene.
 struct BufferSizes {

@@ -397,8 +397,7 @@ class AnalyzerTest : public QObject {
   // of their limits holds.
   void confirmedLimitsHoldAlongASecondPath() {
     AnalyzerOptions plain_options, confirmed_options;
-    plain_options.scene.cone = confirmed_options.scene.cone = Cone::pyramidal;
-    plain_options.scene.solver = confirmed_options.scene.solver = Solver::newton;
+    plain_options.scene = confirmed_options.scene = with_mujoco_solver({});
     confirmed_options.search.confirm_limits = true;
     Analyzer plain(plain_options, FrictionModel::builtin());
     Analyzer confirmed(confirmed_options, FrictionModel::builtin());

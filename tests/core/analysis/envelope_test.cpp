@@ -768,9 +768,8 @@ class EnvelopeTest : public QObject {
     auto source =
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3102.json");
     QVERIFY(source.ok());
-    AnalyzerOptions pyramid;
-    pyramid.scene.cone = Cone::pyramidal;  // and Newton: the model they were found in
-    pyramid.scene.solver = Solver::newton;
+    AnalyzerOptions pyramid;  // the model its case was found in
+    pyramid.scene = with_mujoco_solver(pyramid.scene);
     Analyzer analyzer(pyramid);
     auto prepared = analyzer.prepare(source->pallet);
     QVERIFY(prepared.ok());
@@ -809,9 +808,8 @@ class EnvelopeTest : public QObject {
     auto source =
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3003.json");
     QVERIFY(source.ok());
-    AnalyzerOptions pyramid;
-    pyramid.scene.cone = Cone::pyramidal;  // and Newton: the model they were found in
-    pyramid.scene.solver = Solver::newton;
+    AnalyzerOptions pyramid;  // the model its case was found in
+    pyramid.scene = with_mujoco_solver(pyramid.scene);
     AnalyzerOptions unconfirmed = pyramid;
     unconfirmed.search.confirm_from_peak = 2.0;
     auto before = Analyzer(unconfirmed).envelope(source->pallet);
