@@ -35,7 +35,8 @@ struct RestState {
   SimState state;
   Pose pallet;
   std::vector<Pose> items;
-  double settle_time_s = 0.0;       ///< when it first came to rest (the hold after it not counted)
+  double settle_time_s = 0.0;  ///< when it first came to rest (the hold after it not counted)
+  double settle_run_s = 0.0;   ///< how long the settle simulated (its first rest, then the hold)
   double residual_speed_mps = 0.0;  ///< fastest body when it was declared at rest
   /// Set when the load cannot stand: then this is not a rest state, and a probe from it is refused
   /// (ProbeRun reports it unstable).

@@ -129,6 +129,24 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // The state where the load first came to rest: the rest state, once the hold confirms it (the
   // hold checks; it does not move the start of the probes).
   RestState first;
+  int first_step = -1;
+  // How far an item has gone from where the load first came to rest (relative to its pallet).
+  auto crept_from_first = [&] {
+    const Pose pallet = body_pose(*d, l.pallet_body);
+    double crept = 0.0;
+    for (std::size_t i = 0; i < items.size() && i < first.items.size(); ++i) {
+      const Vec3 a = to_frame(pallet, items[i].pos);
+      const Vec3 b = to_frame(first.pallet, first.items[i].pos);
+      crept = std::max(crept, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+    }
+    return crept;
+  };
+  // Contact chatter: a tall load's stacks rock by a tenth of a millimetre at a few millimetres a
+  // second and never pass a whole hold below the rest speed. A load whose items stay, at every
+  // check of the hold after it first came to rest, within what the rest speed would carry them
+  // over the hold has held there on average no faster than the rest speed: it is settled.
+  const double calm_m = o.rest_speed_mps * o.hold_s;
+  bool calm = true;
   std::optional<FailureEvent> moved;
   int step = 0;
   BeltWatch belt;
@@ -157,9 +175,14 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       quiet_since = -1;
     } else if (quiet_since < 0) {
       quiet_since = step;
-      if (first.state.qpos.empty()) first = capture(*m, *d, l, speed);
+      if (first_step < 0) {
+        first = capture(*m, *d, l, speed);
+        first_step = step;
+      }
     }
-    settled = quiet_since >= 0 && step - quiet_since >= hold_steps;
+    calm = calm && (first_step < 0 || crept_from_first() <= calm_m);
+    settled = (quiet_since >= 0 && step - quiet_since >= hold_steps) ||
+              (calm && first_step >= 0 && step - first_step >= hold_steps);
   }
   if (error) {
     mj_resetData(m, d);
@@ -174,18 +197,15 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // speed above the rest threshold now and then while nothing goes anywhere. A load whose items
   // have all stayed within a quarter of the load-shift threshold of where it first came to rest
   // stands; one that has crept further does not.
-  if (!settled && !moved && !first.state.qpos.empty()) {
-    const Pose pallet = body_pose(*d, l.pallet_body);
-    double crept = 0.0;
-    for (std::size_t i = 0; i < items.size() && i < first.items.size(); ++i) {
-      const Vec3 a = to_frame(pallet, items[i].pos);
-      const Vec3 b = to_frame(first.pallet, first.items[i].pos);
-      crept = std::max(crept, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
-    }
-    settled = crept < 0.25 * thresholds.load_shift_m;
+  if (!settled && !moved && first_step >= 0) {
+    settled = crept_from_first() < 0.25 * thresholds.load_shift_m;
   }
-  if (settled) return Result<RestState>{std::move(first), {}};
+  if (settled) {
+    first.settle_run_s = d->time;
+    return Result<RestState>{std::move(first), {}};
+  }
   RestState rest = capture(*m, *d, l, speed);
+  rest.settle_run_s = d->time;
   rest.cannot_stand = stand_failure(*scene_, *d, thresholds, pallet0, items0, items, moved);
   return Result<RestState>{std::move(rest), {}};
 }
