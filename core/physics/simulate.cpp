@@ -6,6 +6,7 @@
 #include "core/physics/step.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -130,6 +131,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // hold checks; it does not move the start of the probes).
   RestState first;
   int first_step = -1;
+  std::array<double, 2> first_belt{};
   // How far an item has gone from where the load first came to rest (relative to its pallet).
   auto crept_from_first = [&] {
     const Pose pallet = body_pose(*d, l.pallet_body);
@@ -141,10 +143,18 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
     }
     return crept;
   };
+  // ... and the pallet from where it stood on its belt.
+  auto pallet_crept_from_first = [&] {
+    const Pose pallet = body_pose(*d, l.pallet_body);
+    return std::hypot(
+        pallet.pos[0] - first.pallet.pos[0] - (d->qpos[l.belt_x_qpos] - first_belt[0]),
+        pallet.pos[1] - first.pallet.pos[1] - (d->qpos[l.belt_y_qpos] - first_belt[1]),
+        pallet.pos[2] - first.pallet.pos[2]);
+  };
   // Contact chatter: a tall load's stacks rock by a tenth of a millimetre at a few millimetres a
-  // second and never pass a whole hold below the rest speed. A load whose items stay, at every
-  // check of the hold after it first came to rest, within what the rest speed would carry them
-  // over the hold has held there on average no faster than the rest speed: it is settled.
+  // second and never pass a whole hold below the rest speed. A load whose items and pallet stay,
+  // at every check of the hold after it first came to rest, within what the rest speed would
+  // carry them over the hold has held there on average no faster than the rest speed: settled.
   const double calm_m = o.rest_speed_mps * o.hold_s;
   bool calm = true;
   std::optional<FailureEvent> moved;
@@ -178,9 +188,11 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       if (first_step < 0) {
         first = capture(*m, *d, l, speed);
         first_step = step;
+        first_belt = {d->qpos[l.belt_x_qpos], d->qpos[l.belt_y_qpos]};
       }
     }
-    calm = calm && (first_step < 0 || crept_from_first() <= calm_m);
+    calm = calm &&
+           (first_step < 0 || std::max(crept_from_first(), pallet_crept_from_first()) <= calm_m);
     settled = (quiet_since >= 0 && step - quiet_since >= hold_steps) ||
               (calm && first_step >= 0 && step - first_step >= hold_steps);
   }
