@@ -53,6 +53,11 @@ struct SettleOptions {
   /// whole hold by max_time_s, whose items nevertheless all stayed within a quarter of the
   /// load-shift threshold of that state (contact chatter, not motion), is settled too.
   double hold_s = 0.2;
+  /// Contact chatter (core/README.md "Settle, then hold"): a load whose bodies stay through the
+  /// hold within rest_speed x hold (and rest_spin x hold) of where it first came to rest is
+  /// settled at the next check at which it is at rest, though it was not at rest at every check.
+  /// false only to measure the rule (simulate_test).
+  bool calm_hold = true;
   double max_time_s = 3.0;  ///< a load still moving then cannot stand (a build defect)
   double check_every_s = 0.01;
   /// When set, the settle stops at its next check and fails ("cancelled"). Not owned.

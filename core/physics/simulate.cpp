@@ -132,31 +132,49 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   RestState first;
   int first_step = -1;
   std::array<double, 2> first_belt{};
-  // How far an item has gone from where the load first came to rest (relative to its pallet).
-  auto crept_from_first = [&] {
+  // How far a body has gone from where the load first came to rest, and how far it has turned
+  // (radians, as the chord its axes swept: small angles): each item relative to its pallet, the
+  // pallet relative to its (still) belt.
+  struct Drift {
+    double m = 0.0, rad = 0.0;
+  };
+  auto turned = [](const Quat& frame0, const Quat& q0, const Quat& frame, const Quat& q) {
+    double chord = 0.0;
+    for (const Vec3& e : {Vec3{1.0, 0.0, 0.0}, Vec3{0.0, 0.0, 1.0}}) {
+      const Vec3 a = rotate_inverse(frame, rotate(q, e));
+      const Vec3 b = rotate_inverse(frame0, rotate(q0, e));
+      chord = std::max(chord, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+    }
+    return chord;
+  };
+  auto drift_from_first = [&] {
     const Pose pallet = body_pose(*d, l.pallet_body);
-    double crept = 0.0;
+    Drift out;
     for (std::size_t i = 0; i < items.size() && i < first.items.size(); ++i) {
       const Vec3 a = to_frame(pallet, items[i].pos);
       const Vec3 b = to_frame(first.pallet, first.items[i].pos);
-      crept = std::max(crept, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+      out.m = std::max(out.m, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+      out.rad = std::max(
+          out.rad, turned(first.pallet.quat, first.items[i].quat, pallet.quat, items[i].quat));
     }
-    return crept;
-  };
-  // ... and the pallet from where it stood on its belt.
-  auto pallet_crept_from_first = [&] {
-    const Pose pallet = body_pose(*d, l.pallet_body);
-    return std::hypot(
-        pallet.pos[0] - first.pallet.pos[0] - (d->qpos[l.belt_x_qpos] - first_belt[0]),
-        pallet.pos[1] - first.pallet.pos[1] - (d->qpos[l.belt_y_qpos] - first_belt[1]),
-        pallet.pos[2] - first.pallet.pos[2]);
+    out.m = std::max(
+        out.m,
+        std::hypot(pallet.pos[0] - first.pallet.pos[0] - (d->qpos[l.belt_x_qpos] - first_belt[0]),
+                   pallet.pos[1] - first.pallet.pos[1] - (d->qpos[l.belt_y_qpos] - first_belt[1]),
+                   pallet.pos[2] - first.pallet.pos[2]));
+    const Quat level{1.0, 0.0, 0.0, 0.0};
+    out.rad = std::max(out.rad, turned(level, first.pallet.quat, level, pallet.quat));
+    return out;
   };
   // Contact chatter: a tall load's stacks rock by a tenth of a millimetre at a few millimetres a
-  // second and never pass a whole hold below the rest speed. A load whose items and pallet stay,
-  // at every check of the hold after it first came to rest, within what the rest speed would
-  // carry them over the hold has held there on average no faster than the rest speed: settled.
+  // second and never pass a whole hold below the rest speed. A load whose bodies stay, at every
+  // check of the hold after it first came to rest, within what the rest speed and spin would carry
+  // them over the hold has held there on average no faster: it is settled at the first check
+  // after that at which it is at rest again (a load that starts to tip slowly, within that bound,
+  // is moving faster than the rest speed at the hold's end, and is followed on).
   const double calm_m = o.rest_speed_mps * o.hold_s;
-  bool calm = true;
+  const double calm_rad = o.rest_spin_radps * o.hold_s;
+  bool calm = o.calm_hold;
   std::optional<FailureEvent> moved;
   int step = 0;
   BeltWatch belt;
@@ -191,10 +209,12 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
         first_belt = {d->qpos[l.belt_x_qpos], d->qpos[l.belt_y_qpos]};
       }
     }
-    calm = calm &&
-           (first_step < 0 || std::max(crept_from_first(), pallet_crept_from_first()) <= calm_m);
-    settled = (quiet_since >= 0 && step - quiet_since >= hold_steps) ||
-              (calm && first_step >= 0 && step - first_step >= hold_steps);
+    if (calm && first_step >= 0) {
+      const Drift drift = drift_from_first();
+      calm = drift.m <= calm_m && drift.rad <= calm_rad;
+    }
+    settled = !moved && ((quiet_since >= 0 && step - quiet_since >= hold_steps) ||
+                         (calm && at_rest && step - first_step >= hold_steps));
   }
   if (error) {
     mj_resetData(m, d);
@@ -210,7 +230,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // have all stayed within a quarter of the load-shift threshold of where it first came to rest
   // stands; one that has crept further does not.
   if (!settled && !moved && first_step >= 0) {
-    settled = crept_from_first() < 0.25 * thresholds.load_shift_m;
+    settled = drift_from_first().m < 0.25 * thresholds.load_shift_m;
   }
   if (settled) {
     first.settle_run_s = d->time;
