@@ -6,7 +6,6 @@
 #include "core/physics/step.hpp"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -131,7 +130,6 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
   // hold checks; it does not move the start of the probes).
   RestState first;
   int first_step = -1;
-  std::array<double, 2> first_belt{};
   // How far a body has gone from where the load first came to rest, and how far it has turned
   // (radians, as the chord its axes swept: small angles): each item relative to its pallet, the
   // pallet relative to its (still) belt.
@@ -157,11 +155,13 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       out.rad = std::max(
           out.rad, turned(first.pallet.quat, first.items[i].quat, pallet.quat, items[i].quat));
     }
-    out.m = std::max(
-        out.m,
-        std::hypot(pallet.pos[0] - first.pallet.pos[0] - (d->qpos[l.belt_x_qpos] - first_belt[0]),
-                   pallet.pos[1] - first.pallet.pos[1] - (d->qpos[l.belt_y_qpos] - first_belt[1]),
-                   pallet.pos[2] - first.pallet.pos[2]));
+    const std::vector<double>& q0 = first.state.qpos;  // the belt's position then, too
+    out.m =
+        std::max(out.m, std::hypot(pallet.pos[0] - first.pallet.pos[0] -
+                                       (d->qpos[l.belt_x_qpos] - q0[std::size_t(l.belt_x_qpos)]),
+                                   pallet.pos[1] - first.pallet.pos[1] -
+                                       (d->qpos[l.belt_y_qpos] - q0[std::size_t(l.belt_y_qpos)]),
+                                   pallet.pos[2] - first.pallet.pos[2]));
     const Quat level{1.0, 0.0, 0.0, 0.0};
     out.rad = std::max(out.rad, turned(level, first.pallet.quat, level, pallet.quat));
     return out;
@@ -206,7 +206,6 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
       if (first_step < 0) {
         first = capture(*m, *d, l, speed);
         first_step = step;
-        first_belt = {d->qpos[l.belt_x_qpos], d->qpos[l.belt_y_qpos]};
       }
     }
     if (calm && first_step >= 0) {
