@@ -169,7 +169,7 @@ std::vector<StudyConfig> study_configs() {
   ref.is_reference = true;
   out.push_back(std::move(ref));
   StudyConfig def =
-      make("default", "shipped: automatic fidelity (reduced 2 ms, full 1 ms), seeded search", {});
+      make("default", "shipped: automatic fidelity (reduced 2 ms, full 1.5 ms), seeded search", {});
   def.is_default = true;
   out.push_back(std::move(def));
   StudyConfig eq = make("reference-equivalent",
@@ -228,13 +228,12 @@ std::vector<StudyConfig> study_configs() {
                      "the default with sliding pairs in MuJoCo's friction cone at mu_d (a sliding "
                      "pallet hops; the model until session 17)",
                      solver_kinetic));
-  for (double dt : {0.0015, 0.002}) {  // the shipped default, the full model's timestep coarser
-    AnalyzerOptions coarse_dt;
-    coarse_dt.full_model_timestep_s = dt;
-    const std::string ms = dt == 0.002 ? "2" : "1.5";
+  for (double dt : {0.001, 0.002}) {  // the shipped default, the full model's timestep finer
+    AnalyzerOptions other_dt;         // (the default until session 30) or coarser
+    other_dt.full_model_timestep_s = dt;
+    const std::string ms = dt == 0.002 ? "2" : "1";
     out.push_back(make("default-full-" + ms + "ms",
-                       "the default with the full model at " + ms + " ms (solref 0.01)",
-                       coarse_dt));
+                       "the default with the full model at " + ms + " ms (solref 0.01)", other_dt));
   }
   AnalyzerOptions pyramid;  // the shipped default until session 28: pyramid, Newton
   pyramid.scene = with_mujoco_solver(pyramid.scene);

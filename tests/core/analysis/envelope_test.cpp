@@ -768,8 +768,9 @@ class EnvelopeTest : public QObject {
     auto source =
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3102.json");
     QVERIFY(source.ok());
-    AnalyzerOptions pyramid;  // the model its case was found in
+    AnalyzerOptions pyramid;  // the model its case was found in (the full model then at 1 ms)
     pyramid.scene = with_mujoco_solver(pyramid.scene);
+    pyramid.full_model_timestep_s = 0.001;
     Analyzer analyzer(pyramid);
     auto prepared = analyzer.prepare(source->pallet);
     QVERIFY(prepared.ok());
@@ -808,8 +809,9 @@ class EnvelopeTest : public QObject {
     auto source =
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3003.json");
     QVERIFY(source.ok());
-    AnalyzerOptions pyramid;  // the model its case was found in
+    AnalyzerOptions pyramid;  // the model its case was found in (the full model then at 1 ms)
     pyramid.scene = with_mujoco_solver(pyramid.scene);
+    pyramid.full_model_timestep_s = 0.001;
     AnalyzerOptions unconfirmed = pyramid;
     unconfirmed.search.confirm_from_peak = 2.0;
     auto before = Analyzer(unconfirmed).envelope(source->pallet);

@@ -134,10 +134,10 @@ class FidelityTest : public QObject {
     // Each level steps at its own timestep: the reduced model at scene.timestep_s, the full one
     // at full_model_timestep_s (forced or chosen).
     QCOMPARE((*reduced.prepare(config).value)->scene->options.timestep_s, 0.002);
-    QCOMPARE((*full.prepare(config).value)->scene->options.timestep_s, 0.001);
+    QCOMPARE((*full.prepare(config).value)->scene->options.timestep_s, 0.0015);
     Analyzer automatic_full(AnalyzerOptions{}, friction_model());
     QCOMPARE((*automatic_full.prepare(tower(WrapType::none)).value)->scene->options.timestep_s,
-             0.001);
+             0.0015);
     within_a_step(*a, *b);
     QCOMPARE(a->result.verdict, b->result.verdict);
   }

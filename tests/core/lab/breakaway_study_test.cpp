@@ -50,7 +50,8 @@ class BreakawayStudyTest : public QObject {
   }
 
   // Coulomb's cone: the columns hold at every share up to the pallet's onset, never near failing
-  // (peak ratio below 0.6, measured 0.03-0.49, where the pyramid failed at 0.95 of it).
+  // (peak ratio below 0.75, where the pyramid failed at 0.95 of it; measured 0.03-0.61 with the
+  // full model at 1.5 ms, 0.03-0.54 at 1 ms, the highest at the onset itself).
   void theSameLoadHoldsUpToItsOnsetInTheEllipticCone() {
     auto band = breakaway_band(holdout("h3102.json"), AnalyzerOptions{});
     QVERIFY(band.ok());
@@ -58,7 +59,7 @@ class BreakawayStudyTest : public QObject {
       QCOMPARE(axis->size(), std::size(kBreakawayShares));
       for (const BandPoint& p : *axis) {
         QCOMPARE(p.outcome, Outcome::safe);
-        QVERIFY2(p.peak_ratio < 0.6, qPrintable(QString::number(p.peak_ratio)));
+        QVERIFY2(p.peak_ratio < 0.75, qPrintable(QString::number(p.peak_ratio)));
       }
     }
   }
