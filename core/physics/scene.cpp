@@ -214,6 +214,7 @@ SceneOptions with_mujoco_solver(SceneOptions o) {
   o.cone = Cone::pyramidal;
   o.solver = Solver::newton;
   o.iterations = 100;
+  o.tolerance = 1e-8;
   return o;
 }
 
