@@ -42,8 +42,8 @@ struct SceneOptions {
   int iterations = 1000;
   /// MuJoCo's: the solve stops once an iteration improves its cost, or the cost's gradient is,
   /// below this (scaled by the model's mean inertia and degrees of freedom). Looser halves CG's
-  /// iterations on large interlocked loads with the same agreement, but the creep jump reads the
-  /// solver's residual as unsteadiness (core/README.md "The solver is conjugate gradient").
+  /// iterations on large interlocked loads with the same agreement, but rocks a tower's top carton
+  /// that a converged solve holds still (core/README.md "The solver is conjugate gradient").
   double tolerance = 1e-8;
   /// Contact softness. A stiff impedance keeps tip thresholds within a fraction of a percent of
   /// closed form (the soft default tips 2-3 % early: the rear edge sinks in).
