@@ -88,6 +88,9 @@ Json analyse(const PalletConfig& config) {
   row["contacts"] = contacts;
   row["us_per_step"] = steps > 0 ? 1000.0 * wall / double(steps) : 0.0;
   row["sims"] = env->result.sims_run;
+  // The steps its searches' probes took (jumps not counted): a cost that, unlike the time, no other
+  // load on the machine changes, for comparing two builds on a noisy one.
+  row["steps"] = steps;
   row["envelope_ms"] = ms;
   row["fidelity"] = to_string(env->result.fidelity);
   row["verdict"] = to_string(env->result.verdict);
@@ -209,8 +212,9 @@ int run_bench_scale(const Args& args) {
     print_json(rows);
     return exit_code;
   }
-  std::printf("%-8s %5s %5s %8s %8s %9s %5s %11s %11s %s\n", "pattern", "items", "dofs", "contacts",
-              "searched", "us/step", "sims", "envelope_ms", "peak_rss_mb", "verdict");
+  std::printf("%-8s %5s %5s %8s %8s %9s %5s %7s %11s %11s %s\n", "pattern", "items", "dofs",
+              "contacts", "searched", "us/step", "sims", "steps", "envelope_ms", "peak_rss_mb",
+              "verdict");
   for (const Json& r : rows) {
     if (r.contains("error")) {
       std::printf("%-8s %5d error: %s\n", r["pattern"].get<std::string>().c_str(),
@@ -219,10 +223,10 @@ int run_bench_scale(const Args& args) {
     }
     const std::string searched = std::to_string(r["searched_items_along"].get<int>()) + "/" +
                                  std::to_string(r["searched_items_across"].get<int>());
-    std::printf("%-8s %5d %5d %8d %8s %9.1f %5d %11.0f %11.0f %s\n",
+    std::printf("%-8s %5d %5d %8d %8s %9.1f %5d %7ld %11.0f %11.0f %s\n",
                 r["pattern"].get<std::string>().c_str(), r["items"].get<int>(),
                 r["dofs"].get<int>(), r["contacts"].get<int>(), searched.c_str(),
-                r["us_per_step"].get<double>(), r["sims"].get<int>(),
+                r["us_per_step"].get<double>(), r["sims"].get<int>(), r["steps"].get<long>(),
                 r["envelope_ms"].get<double>(), r["peak_rss_mb"].get<double>(),
                 r["verdict"].get<std::string>().c_str());
   }

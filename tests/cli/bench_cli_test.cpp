@@ -57,6 +57,9 @@ class BenchCliTest : public QObject {
     QVERIFY(num(o, "peak_rss_mb") > 0.0);
     QVERIFY(num(o, "us_per_step") > 0.0 && num(o, "envelope_ms") > 0.0);
     QVERIFY(o.value("sims").toInt() > 0);
+    // Every probe steps at least once (the steps a jump skips are not counted).
+    QVERIFY2(o.value("steps").toInteger() >= o.value("sims").toInt(),
+             qPrintable(QString::number(o.value("steps").toInteger())));
     // Twelve two-high columns, 4 along X x 3 across: the searches along the belt simulate one row
     // of each; the curves every item (a curve turns the load: copies along X are not alike).
     QCOMPARE(o.value("searched_items_along").toInt(), items / 3);
