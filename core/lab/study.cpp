@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <utility>
 
 #include "core/contract/fingerprint.hpp"
 #include "core/inputs/catalog.hpp"
@@ -235,12 +236,13 @@ std::vector<StudyConfig> study_configs() {
     out.push_back(make("default-full-" + ms + "ms",
                        "the default with the full model at " + ms + " ms (solref 0.01)", other_dt));
   }
-  for (double tol : {1e-7, 3e-7}) {  // the shipped default, its solver's tolerance looser
+  // The shipped default, its solver's tolerance looser.
+  for (const auto& [tol, name] : {std::pair{1e-7, "1e-7"}, std::pair{3e-7, "3e-7"}}) {
     AnalyzerOptions loose;
     loose.scene.tolerance = tol;
-    const std::string t = tol == 1e-7 ? "1e-7" : "3e-7";
-    out.push_back(make("default-tol-" + t,
-                       "the default with the solver's tolerance at " + t + " (1e-8)", loose));
+    out.push_back(
+        make(std::string("default-tol-") + name,
+             std::string("the default with the solver's tolerance at ") + name + " (1e-8)", loose));
   }
   AnalyzerOptions pyramid;  // the shipped default until session 28: pyramid, Newton
   pyramid.scene = with_mujoco_solver(pyramid.scene);
