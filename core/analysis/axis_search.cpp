@@ -184,12 +184,12 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     if (!k_section(*safe, *fail, finest())) return std::nullopt;
   }
   if (!sectioned && !bisect()) return std::nullopt;
-  // A load whose items can move (vouch_) may fail and hold by turns over a band of demands (an
-  // item held between its kinetic and static onsets slides when its carrier's rocking breaks it
-  // loose), and the bracket's probes sample that band at a few points. So the answer is probed
-  // once more a step below (unless that point was probed already); a failure there restarts the
-  // walk down from it, at most kBandChecks times.
-  for (int checks = 0; vouch_ && checks < kBandChecks && safe && fail; ++checks) {
+  // A load whose items can move may fail and hold by turns over a band of demands (an item held
+  // between its kinetic and static onsets slides when its carrier's rocking breaks it loose), and
+  // the bracket's probes sample that band at a few points. Where asked (band_checks_), the answer
+  // is probed once more a step below (unless that point was probed already); a failure there
+  // restarts the walk down from it, at most band_checks_ times.
+  for (int checks = 0; checks < band_checks_ && safe && fail; ++checks) {
     const double x = *safe - precision_;
     if (x <= min_) break;
     const auto seen = std::find_if(probed.begin(), probed.end(),

@@ -30,10 +30,6 @@ constexpr double kEarlyFailure = 0.5;
 // A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
 // within a step or two of the limit: the walk up keeps its step there instead of doubling.
 constexpr double kNearFailure = 0.5;
-/// How many times a search of a load whose items can move goes down again after a failure one step
-/// below its answer (AxisSearch::run, `vouch`).
-constexpr int kBandChecks = 3;
-
 // One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect while
 // the bracket is wider than half the precision (finest()). Down from a failing
 // seed the steps are three of the precision, then doubling (a seed just above the weakest onset
@@ -44,7 +40,8 @@ constexpr int kBandChecks = 3;
 // steps above its onset). Every walk's steps are the precision times powers of two, so the
 // bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
 // assumed monotone along the axis, except for a load whose items can move (`vouch`, run()): just
-// below a seed at its weakest onset that came near failing, and one step below its answer. With a
+// below a seed at its weakest onset that came near failing, and, where asked (`band_checks`), one
+// step below its answer. With a
 // batch function and k > 1 the bracket is narrowed by k-section instead: each round probes k points
 // of the bisection grid of the bracket at once (one batched call), so rounds drop from log2 n to
 // log_{k+1} n; the walk that brackets the boundary takes its next k points per round.
@@ -55,12 +52,13 @@ class AxisSearch {
   using BatchFn =
       std::function<std::optional<std::vector<ProbeVerdict>>(const std::vector<double>&)>;
 
-  /// `vouch`: a safe seed that came near failing is checked below, and so is the answer (see
-  /// run()); for a load whose items can move, seeded one step above its weakest onset. A one-body
-  /// load's seed is its closed-form prediction, half a step below the slip it predicts: near
-  /// failing by design.
+  /// `vouch`: a safe seed that came near failing is checked below (see run()); for a load whose
+  /// items can move, seeded one step above its weakest onset. A one-body load's seed is its
+  /// closed-form prediction, half a step below the slip it predicts: near failing by design.
+  /// `band_checks` (with `vouch`): the answer is probed once more a step below, and a failure there
+  /// walks down again from it, at most that many times (SearchConfig::band_checks).
   AxisSearch(double lo, double hi, double precision, ProbeFn probe, bool seeded = true,
-             bool vouch = false, BatchFn batch = {}, int k = 1)
+             bool vouch = false, BatchFn batch = {}, int k = 1, int band_checks = 0)
       : min_(lo),
         max_(hi),
         precision_(precision),
@@ -68,7 +66,8 @@ class AxisSearch {
         seeded_(seeded),
         vouch_(vouch),
         batch_(std::move(batch)),
-        k_(k) {}
+        k_(k),
+        band_checks_(vouch ? band_checks : 0) {}
 
   /// The limit from `seed` (clamped to the range); nullopt when a probe was unstable.
   std::optional<AxisLimit> run(double seed);
@@ -115,6 +114,7 @@ class AxisSearch {
   bool vouch_ = false;
   BatchFn batch_;
   int k_ = 1;
+  int band_checks_ = 0;
 };
 
 }  // namespace pb

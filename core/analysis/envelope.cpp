@@ -300,6 +300,8 @@ struct AxisTask {
   std::function<ConveyorProfile(double)> follow_up_profile = {};
   /// Probes run for this search before it asked (another search's follow_up): taken, not run.
   Lookahead* ran_before = nullptr;
+  /// With `vouch`: how many times the answer is checked a step below (SearchConfig::band_checks).
+  int band_checks = 0;
 };
 
 struct AxisOutcome {
@@ -591,6 +593,12 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (!implying || y < implied_from) return std::nullopt;
     return verdict_at(y, *implying);
   };
+  // The axis's search on verdicts from `probe` (and `batch`, k at a time).
+  auto searching = [&](AxisSearch::ProbeFn probe_fn, AxisSearch::BatchFn batch_fn = {},
+                       int per_round = 1) {
+    return AxisSearch(t.lo, t.hi, t.precision, std::move(probe_fn), seeded, t.vouch,
+                      std::move(batch_fn), per_round, t.band_checks);
+  };
   // The search run again without simulating, on what is known and x ending `failed`: the first
   // probe it does not know (`next`), or, where it knows every probe it takes, its limit.
   struct DryRun {
@@ -606,7 +614,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
       dry.next = y;
       return std::nullopt;
     };
-    auto limit = AxisSearch(t.lo, t.hi, t.precision, oracle, seeded, t.vouch).run(t.seed);
+    auto limit = searching(oracle).run(t.seed);
     if (!dry.next) dry.limit = limit;
     return dry;
   };
@@ -682,8 +690,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (auto v = implied(x)) return v;
     return probe(x);
   };
-  out.limit =
-      AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch, batch, k).run(t.seed);
+  out.limit = searching(remembered, batch, k).run(t.seed);
   if (ahead) {
     ahead->drain();
     out.ran_ahead = ahead->started();
@@ -712,7 +719,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     }
     if (r.outcome != Outcome::failed) break;
     failing[x] = verdict_at(x, r);
-    out.limit = AxisSearch(t.lo, t.hi, t.precision, remembered, seeded, t.vouch).run(x);
+    out.limit = searching(remembered).run(x);
   }
   // A search after a confirmation counts what it looked up again: the axis's simulations are
   // this search's runs.
@@ -1036,6 +1043,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        estop_same_until,
        0.0},  // the e-stop's deceleration is the line's: no higher demand is probed
   };
+  for (AxisTask& t : tasks) t.band_checks = s.band_checks;
   // The reduced level merges a wrapped load rigidly into its pallet, which then holds on its static
   // cone up to mu_s g in a curve; the real load sways into its wrap as the curve's demand steps
   // on, which breaks the pallet loose lower (the full model and the reference do). So its curve is

@@ -92,6 +92,12 @@ struct SearchConfig {
   /// singly again after the next late failure (AxisSearch). Off: the walk's fixed steps (three
   /// single ones, then doubling). Measured in core/README.md, "The walk".
   bool hasten_walk = true;
+  /// A search of a load whose items can move probes its answer once more a step below, and walks
+  /// down again from a failure there, at most this many times (AxisSearch: a band of demands where
+  /// the load fails and holds by turns). 3 from session 14 to 31; 0 since session 32: on 126
+  /// unwrapped pallets no check failed, so every one was a simulation for nothing
+  /// (core/README.md, "The answer is checked a step below").
+  int band_checks = 0;
 
   bool operator==(const SearchConfig&) const = default;
 };

@@ -263,6 +263,12 @@ std::vector<StudyConfig> study_configs() {
   coarse.search.lateral_precision_g *= 2.0;
   coarse.search.speed_precision_mps *= 2.0;
   out.push_back(make("default-coarse", "the default at twice the search steps", coarse));
+  AnalyzerOptions band;  // the shipped default until session 31: each answer checked a step below
+  band.search.band_checks = 3;
+  out.push_back(make("default-band-checks",
+                     "the default with each answer of a load whose items can move probed a step "
+                     "below, up to three times (the default until session 31)",
+                     band));
   AnalyzerOptions confirmed;  // the shipped default, each limit run again along another path
   confirmed.search.confirm_limits = true;
   out.push_back(make("default-confirmed",
@@ -336,6 +342,7 @@ std::string options_fingerprint(const AnalyzerOptions& o) {
   if (o.sim.skip_comoving && o.sim.skip_creeping) j["skip_creeping"] = true;
   if (o.sim.project_pallet_slip) j["project_pallet_slip"] = true;
   if (q.seed_with_closed_form && q.hasten_walk) j["hasten_walk"] = true;
+  if (q.seed_with_closed_form && q.band_checks > 0) j["band_checks"] = q.band_checks;
   if (s.solver_kinetic_friction) j["solver_kinetic_friction"] = true;
   return fingerprint_json(j);
 }

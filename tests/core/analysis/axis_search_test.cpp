@@ -94,10 +94,11 @@ class AxisSearchTest : public QObject {
     for (double x : calm.probed) QVERIFY2(x >= 0.2, std::to_string(x).c_str());
   }
 
-  // The answer of a load whose items can move is probed once more a step below: where the load
-  // fails there (a band where it fails and holds by turns, as top-heavy-surprise's stop does with
-  // Coulomb friction), the search walks down from that failure; where it holds, that is one probe
-  // more. The unvouched search answers inside the band.
+  // With band checks, the answer of a load whose items can move is probed once more a step below:
+  // where the load fails there (a band where it fails and holds by turns, as top-heavy-surprise's
+  // stop did in session 14's physics), the search walks down from that failure; where it holds,
+  // that is one probe more. Without them (the default since session 32) and unvouched, the search
+  // answers inside the band.
   void theAnswerIsCheckedAStepBelow() {
     auto monotone = [](double x) { return x >= 0.3; };
     // A seed whose search never probed a step below its answer (else the check costs nothing and
@@ -122,8 +123,14 @@ class AxisSearchTest : public QObject {
     auto unsafe = AxisSearch(kLo, kHi, kStep, trusting.fn(), true, false).run(seed);
     QVERIFY(unsafe && unsafe->limit == L);
 
+    MadeUp unchecked{band, 0.0, 1.0, {}};
+    auto inside = AxisSearch(kLo, kHi, kStep, unchecked.fn(), true, true).run(seed);
+    QVERIFY(inside && inside->limit == L);
+    QCOMPARE(unchecked.probed, trusting.probed);
+
+    constexpr int kChecks = 3;
     MadeUp checking{band, 0.0, 1.0, {}};
-    auto limit = AxisSearch(kLo, kHi, kStep, checking.fn(), true, true).run(seed);
+    auto limit = AxisSearch(kLo, kHi, kStep, checking.fn(), true, true, {}, 1, kChecks).run(seed);
     QVERIFY(limit.has_value());
     QVERIFY2(limit->limit < lo && limit->limit >= lo - kStep - 1e-12,
              std::to_string(limit->limit).c_str());
@@ -131,7 +138,7 @@ class AxisSearchTest : public QObject {
 
     // Where the load holds a step below, the check is one probe more and changes nothing.
     MadeUp held{monotone, 0.0, 1.0, {}};
-    auto same = AxisSearch(kLo, kHi, kStep, held.fn(), true, true).run(seed);
+    auto same = AxisSearch(kLo, kHi, kStep, held.fn(), true, true, {}, 1, kChecks).run(seed);
     QVERIFY(same.has_value());
     QCOMPARE(same->limit, L);
     QCOMPARE(same->probes, probes + 1);
