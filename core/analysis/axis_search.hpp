@@ -41,10 +41,10 @@ constexpr double kNearFailure = 0.5;
 // bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
 // assumed monotone along the axis, except for a load whose items can move (`vouch`, run()): just
 // below a seed at its weakest onset that came near failing, and, where asked (`band_checks`), one
-// step below its answer. With a
-// batch function and k > 1 the bracket is narrowed by k-section instead: each round probes k points
-// of the bisection grid of the bracket at once (one batched call), so rounds drop from log2 n to
-// log_{k+1} n; the walk that brackets the boundary takes its next k points per round.
+// step below its answer. With a batch function and k > 1 the bracket is narrowed by k-section
+// instead: each round probes k points of the bisection grid of the bracket at once (one batched
+// call), so rounds drop from log2 n to log_{k+1} n; the walk that brackets the boundary takes its
+// next k points per round.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable

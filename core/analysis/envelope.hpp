@@ -96,7 +96,7 @@ struct SearchConfig {
   /// down again from a failure there, at most this many times (AxisSearch: a band of demands where
   /// the load fails and holds by turns). 3 from session 14 to 31; 0 since session 32: on 126
   /// unwrapped pallets no check failed, so every one was a simulation for nothing
-  /// (core/README.md, "The answer is checked a step below").
+  /// (core/README.md, "The answer was checked a step below").
   int band_checks = 0;
 
   bool operator==(const SearchConfig&) const = default;
