@@ -300,8 +300,6 @@ struct AxisTask {
   std::function<ConveyorProfile(double)> follow_up_profile = {};
   /// Probes run for this search before it asked (another search's follow_up): taken, not run.
   Lookahead* ran_before = nullptr;
-  /// With `vouch`: how many times the answer is checked a step below (SearchConfig::band_checks).
-  int band_checks = 0;
 };
 
 struct AxisOutcome {
@@ -544,9 +542,8 @@ void mark_failed(std::map<double, ProbeVerdict>& known, double x, FailureMode mo
 }
 
 AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState& rest,
-                        const SimOptions& o, bool seeded, int k, bool confirm,
-                        double confirm_from_peak, Cores* cores = nullptr,
-                        double speculate_after_ms = 0.0) {
+                        const SimOptions& o, const SearchConfig& s, int k, Cores* cores) {
+  const bool seeded = s.seed_with_closed_form;
   AxisOutcome out;
   auto unstable_at = [&](double x, const SimResult& r) {
     if (!out.unstable) {
@@ -597,7 +594,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   auto searching = [&](AxisSearch::ProbeFn probe_fn, AxisSearch::BatchFn batch_fn = {},
                        int per_round = 1) {
     return AxisSearch(t.lo, t.hi, t.precision, std::move(probe_fn), seeded, t.vouch,
-                      std::move(batch_fn), per_round, t.band_checks);
+                      std::move(batch_fn), per_round, s.band_checks);
   };
   // The search run again without simulating, on what is known and x ending `failed`: the first
   // probe it does not know (`next`), or, where it knows every probe it takes, its limit.
@@ -638,7 +635,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
     if (!ran) {
       // Only where a probe costs more than a thread and an mjData for it: the last probe of any
       // axis tells (SearchConfig::speculate_after_ms).
-      if (ahead && cores->last_probe_ms.load() >= speculate_after_ms) {
+      if (ahead && cores->last_probe_ms.load() >= s.speculate_after_ms) {
         run_ahead(x);
       }
       ran = simulator.run(rest, t.profile(x), o);
@@ -699,10 +696,10 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   }
   SimOptions twin = o;
   twin.extrapolate_warmstart = true;
-  // Every limit (`confirm`), or that of a load whose items can move (t.vouch) whose own probe
-  // came near failing.
+  // Every limit (SearchConfig::confirm_limits), or that of a load whose items can move (t.vouch)
+  // whose own probe came near failing.
   auto confirmed = [&](double x) {
-    return confirm || (t.vouch && peak_at(out.probes, known, x) >= confirm_from_peak);
+    return s.confirm_limits || (t.vouch && peak_at(out.probes, known, x) >= s.confirm_from_peak);
   };
   bool confirming = false;
   while (out.limit && !out.limit->at_floor && confirmed(out.limit->limit)) {
@@ -1043,7 +1040,6 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
        estop_same_until,
        0.0},  // the e-stop's deceleration is the line's: no higher demand is probed
   };
-  for (AxisTask& t : tasks) t.band_checks = s.band_checks;
   // The reduced level merges a wrapped load rigidly into its pallet, which then holds on its static
   // cone up to mu_s g in a curve; the real load sways into its wrap as the curve's demand steps
   // on, which breaks the pallet loose lower (the full model and the reference do). So its curve is
@@ -1157,8 +1153,7 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   // A search of one task on `simulator` from `rest`.
   auto searcher = [&](Simulator& simulator, const RestState& rest) {
     return [&, sim = &simulator, from = &rest](const AxisTask& task) {
-      return search_axis(task, *sim, *from, o, s.seed_with_closed_form, k, s.confirm_limits,
-                         s.confirm_from_peak, ahead, s.speculate_after_ms);
+      return search_axis(task, *sim, *from, o, s, k, ahead);
     };
   };
   // Where the stop of a load that slips both ways stands (stop_after, and the threads' claims).
