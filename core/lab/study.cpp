@@ -257,6 +257,12 @@ std::vector<StudyConfig> study_configs() {
            "the default solved by Newton (dearer per step in large interlocked loads; the "
            "solver until session 28)",
            newton_default));
+  AnalyzerOptions mujoco_cg;  // the shipped default, solved by MuJoCo's CG (until session 33)
+  mujoco_cg.scene.solver = Solver::cg;
+  out.push_back(make("default-mujoco-cg",
+                     "the default solved by MuJoCo's CG, preconditioned by the mass matrix alone "
+                     "(the solver until session 33)",
+                     mujoco_cg));
   AnalyzerOptions coarse;  // the shipped default, search steps doubled
   coarse.search.accel_precision_mps2 *= 2.0;
   coarse.search.decel_precision_mps2 *= 2.0;

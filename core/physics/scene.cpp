@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/scene.hpp"
+#include "core/physics/constraint_solver.hpp"
 #include "core/physics/step.hpp"
 
 #include <algorithm>
@@ -102,6 +103,15 @@ const char* integrator_name(Integrator i) {
   }
   return "Euler";
 }
+// The scene's flags to step(), as MJCF custom numerics of value 1.
+std::string custom_numerics(const SceneOptions& o) {
+  std::string flags;
+  for (const auto& [on, name] : {std::pair{o.solver_kinetic_friction, kSolverKineticFriction},
+                                 std::pair{o.solver == Solver::pcg, kPreconditionedCg}}) {
+    if (on) flags += "    <numeric name=\"" + std::string(name) + "\" data=\"1\"/>\n";
+  }
+  return flags.empty() ? flags : "  <custom>\n" + flags + "  </custom>\n";
+}
 const char* solver_name(Solver s) {
   switch (s) {
     case Solver::newton:
@@ -109,6 +119,7 @@ const char* solver_name(Solver s) {
     case Solver::pgs:
       return "PGS";
     case Solver::cg:
+    case Solver::pcg:  // MuJoCo's CG in the model; step() solves it with ours (kPreconditionedCg)
       return "CG";
   }
   return "Newton";
@@ -260,10 +271,7 @@ std::string build_mjcf(const PalletConfig& config, const ContactFriction& fricti
     << "\" tolerance=\"" << num(o.tolerance) << "\"/>\n"
     << "  <size nconmax=\"" << nconmax << "\" njmax=\"" << njmax << "\" nstack=\"" << nstack
     << "\" nuserdata=\"" << kFrictionStateSlots * plan.pairs.size() + kDemandFieldSlots << "\"/>\n"
-    << (o.solver_kinetic_friction
-            ? "  <custom><numeric name=\"" + std::string(kSolverKineticFriction) +
-                  "\" data=\"1\"/></custom>\n"
-            : std::string())
+    << custom_numerics(o)
     << (o.aftermath ? "  <default><geom contype=\"1\" conaffinity=\"1\" condim=\"3\" solref=\"" +
                           nums(o.contact_solref) + "\" solimp=\"" + nums(o.contact_solimp) +
                           "\"/></default>\n"

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/step.hpp"
 
+#include "core/physics/constraint_solver.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -23,6 +25,14 @@ int pair_of(const mjModel* m, const mjContact& c) {
 bool solver_kinetic(const mjModel* m) {
   if (m->nnumeric == 0) return false;
   const int id = mj_name2id(m, mjOBJ_NUMERIC, kSolverKineticFriction);
+  return id >= 0 && m->numeric_data[m->numeric_adr[id]] != 0.0;
+}
+
+// Whether the scene asks for our preconditioned CG (kPreconditionedCg) and MuJoCo's is the
+// model's solver.
+bool preconditioned_cg(const mjModel* m) {
+  if (m->nnumeric == 0 || m->opt.solver != mjSOL_CG) return false;
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, kPreconditionedCg);
   return id >= 0 && m->numeric_data[m->numeric_adr[id]] != 0.0;
 }
 
@@ -313,7 +323,11 @@ void step(const mjModel* m, mjData* d) {
   if (mjENABLED(mjENBL_ENERGY)) mj_energyVel(m, d);
   mj_fwdActuation(m, d);
   mj_fwdAcceleration(m, d);
-  mj_fwdConstraint(m, d);
+  if (preconditioned_cg(m)) {
+    thread_constraint_solver().solve(m, d);
+  } else {
+    mj_fwdConstraint(m, d);
+  }
   record_cone_use(m, d);
   mj_sensorAcc(m, d);
   mj_checkAcc(m, d);

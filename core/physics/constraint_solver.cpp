@@ -1,0 +1,649 @@
+// SPDX-License-Identifier: MIT
+#include "core/physics/constraint_solver.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+namespace pb {
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Factor = Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>;
+
+// The preconditioner is built again at the current constraint states once this many iterations
+// have passed since it was built at others (and whenever an iteration improves the cost by less
+// than the tolerance while it is stale: MuJoCo's stop then means only a stale preconditioner).
+// On a 96-carton brick's start-up at 0.98 of its onset: never, 250 iterations a step; every 10,
+// 22; every 5, 21 with 5 factorizations; every 2 or 3, 11-15 with 5.5-5.8 (about as dear).
+constexpr int kRefreshEvery = 5;
+
+// The cost along a search line from the current point (alpha = 0): Gauss's part and each
+// constraint's, as MuJoCo defines them (mj_constraintUpdate), with first and second derivatives.
+struct LinePoint {
+  double alpha = 0.0, cost = 0.0, slope = 0.0, curvature = 0.0;
+};
+
+// A Hessian sparsity pattern (lower triangle) and its symbolic factorization.
+struct Structure {
+  std::vector<std::vector<int>> rows;  // per column j: the rows i >= j it holds, sorted
+  SparseMatrix hessian;
+  std::unique_ptr<Factor> factor;  // (Eigen's factorizations cannot be moved)
+  bool analysed = false;
+
+  void analyse(int nv) {
+    std::vector<Eigen::Triplet<double, int>> entries;
+    for (int c = 0; c < nv; ++c) {
+      for (int r : rows[c]) entries.emplace_back(r, c, 0.0);
+    }
+    hessian.resize(nv, nv);
+    hessian.setFromTriplets(entries.begin(), entries.end());
+    hessian.makeCompressed();
+    factor = std::make_unique<Factor>();
+    factor->analyzePattern(hessian);
+    analysed = factor->info() == Eigen::Success;
+  }
+};
+
+// What a model's Hessian can couple, from the model alone, so that the preconditioner (its
+// fill-reducing ordering, hence its rounding) depends on the model and the constraint rows of
+// the solve, never on what this thread solved before: the mass matrix (each degree of freedom
+// with its ancestors) and, for every contact pair and every body-to-body equality, every degree
+// of freedom either body moves with. A solve with rows outside it (contacts that no pair
+// predefines) is preconditioned on the model's pattern with that solve's extra entries.
+struct Pattern {
+  std::vector<int> signature;  // what `base` was built from (model_signature)
+  Structure base;
+  std::vector<std::pair<int, int>> extra;  // (row, column) entries `extended` adds to `base`
+  Structure extended;
+  long last_use = 0;
+};
+
+// The degrees of freedom body `b` moves with: those of the nearest body at or above it that has
+// any, and their ancestors; none for a body fixed to the world.
+void body_chain(const mjModel* m, int b, std::vector<int>& out) {
+  while (b > 0 && m->body_dofnum[b] == 0) b = m->body_parentid[b];
+  if (b <= 0) return;
+  for (int j = m->body_dofadr[b] + m->body_dofnum[b] - 1; j >= 0; j = m->dof_parentid[j]) {
+    out.push_back(j);
+  }
+}
+
+// The body pairs that can be coupled, with the tree they live in: the key of a model's Pattern.
+std::vector<int> model_signature(const mjModel* m) {
+  std::vector<int> sig{m->nv, m->nbody, m->npair, m->neq};
+  sig.insert(sig.end(), m->dof_parentid, m->dof_parentid + m->nv);
+  sig.insert(sig.end(), m->body_parentid, m->body_parentid + m->nbody);
+  sig.insert(sig.end(), m->body_dofnum, m->body_dofnum + m->nbody);
+  for (int i = 0; i < m->npair; ++i) {
+    sig.push_back(m->geom_bodyid[m->pair_geom1[i]]);
+    sig.push_back(m->geom_bodyid[m->pair_geom2[i]]);
+  }
+  for (int i = 0; i < m->neq; ++i) {
+    const bool bodies = m->eq_type[i] == mjEQ_CONNECT || m->eq_type[i] == mjEQ_WELD;
+    sig.push_back(bodies ? m->eq_obj1id[i] : -1);
+    sig.push_back(bodies ? m->eq_obj2id[i] : -1);
+  }
+  return sig;
+}
+
+}  // namespace
+
+struct ConstraintSolver::Impl {
+  std::array<Pattern, 4> patterns;  // the last few models this thread solved
+  long uses = 0;
+  int analyses = 0;
+  int fallbacks = 0;
+
+  // Per solve.
+  std::vector<double> jaref, jv, ma, mv, grad, pgrad, search, grad_old, pgrad_old;
+  std::vector<double> quad;  // per constraint row: 0.5 D x0^2, D x0 v, 0.5 D v^2
+  std::vector<double> cone;  // per elliptic contact's first row: U0, V0, UU, UV, VV, Dm
+  std::vector<std::pair<int, int>> missing;
+  std::vector<int> factored_state;  // efc_state where the preconditioner was built
+  // The solve's constraint blocks (map_blocks).
+  struct Block {
+    int first = 0, end = 0;              // rows
+    int k = 0;                           // columns
+    int cols = 0, dest = 0, packed = 0;  // offsets into the vectors below
+  };
+  std::vector<Block> blocks;
+  std::vector<int> cols, dest, mass_dest, scratch_cols;
+  std::vector<double> packed, block, hj;
+  double gauss0 = 0.0, gauss1 = 0.0, gauss2 = 0.0;
+
+  Pattern& pattern_for(const mjModel* m);
+  Structure& extend(int nv, Pattern& p);
+  bool map_blocks(const mjModel* m, const mjData* d, const Structure& p);
+  void assemble(const mjData* d, Structure& p);
+  bool precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
+                    double* out);
+  double update(const mjModel* m, mjData* d, const double* qacc);
+  void prepare_line(const mjModel* m, const mjData* d);
+  LinePoint evaluate(const mjData* d, double alpha) const;
+  double line_search(const mjModel* m, mjData* d);
+};
+
+ConstraintSolver::ConstraintSolver() : impl_(std::make_unique<Impl>()) {}
+ConstraintSolver::~ConstraintSolver() = default;
+int ConstraintSolver::analyses() const {
+  return impl_->analyses;
+}
+int ConstraintSolver::fallbacks() const {
+  return impl_->fallbacks;
+}
+
+ConstraintSolver& thread_constraint_solver() {
+  thread_local ConstraintSolver solver;
+  return solver;
+}
+
+Pattern& ConstraintSolver::Impl::pattern_for(const mjModel* m) {
+  ++uses;
+  std::vector<int> sig = model_signature(m);
+  Pattern* oldest = &patterns[0];
+  for (Pattern& p : patterns) {
+    if (p.signature == sig) {
+      p.last_use = uses;
+      return p;
+    }
+    if (p.last_use < oldest->last_use) oldest = &p;
+  }
+  Pattern& p = *oldest;
+  p = Pattern{};
+  p.last_use = uses;
+  const int nv = m->nv;
+  auto& rows = p.base.rows;
+  rows.assign(nv, {});
+  for (int i = 0; i < nv; ++i) {
+    for (int j = i; j >= 0; j = m->dof_parentid[j]) rows[j].push_back(i);
+  }
+  std::vector<int> chain;
+  auto couple = [&](int b1, int b2) {
+    chain.clear();
+    body_chain(m, b1, chain);
+    body_chain(m, b2, chain);
+    for (int r : chain) {
+      for (int c : chain) {
+        if (r >= c) rows[c].push_back(r);
+      }
+    }
+  };
+  for (int i = 0; i < m->npair; ++i) {
+    couple(m->geom_bodyid[m->pair_geom1[i]], m->geom_bodyid[m->pair_geom2[i]]);
+  }
+  for (int i = 0; i < m->neq; ++i) {
+    if (m->eq_type[i] == mjEQ_CONNECT || m->eq_type[i] == mjEQ_WELD) {
+      couple(m->eq_obj1id[i], m->eq_obj2id[i]);
+    }
+  }
+  for (auto& col : rows) {
+    std::sort(col.begin(), col.end());
+    col.erase(std::unique(col.begin(), col.end()), col.end());
+  }
+  p.base.analyse(nv);
+  p.signature = std::move(sig);
+  ++analyses;
+  return p;
+}
+
+// The structure this solve's rows fit: the model's, or the model's with this solve's extra
+// entries (`missing`, from map_blocks on the model's), analysed afresh unless the last solve
+// that needed extra entries needed the same ones.
+Structure& ConstraintSolver::Impl::extend(int nv, Pattern& p) {
+  std::sort(missing.begin(), missing.end());
+  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+  if (p.extended.analysed && p.extra == missing) return p.extended;
+  p.extra = missing;
+  p.extended.rows = p.base.rows;
+  for (const auto& [r, c] : p.extra) {
+    auto& col = p.extended.rows[c];
+    col.insert(std::lower_bound(col.begin(), col.end(), r), r);
+  }
+  p.extended.analyse(nv);
+  ++analyses;
+  return p.extended;
+}
+
+// The solve's constraint rows in blocks of identical columns (a contact's rows, and every
+// contact of one body pair, share theirs in MuJoCo's sparse layout; a dense row's nonzeros stand
+// for its columns, over all of a contact's rows), each row's coefficients packed in its block's
+// column order, and where each block's lower triangle (and each mass matrix entry) lands in the
+// pattern. Returns false (with `missing` filled) if the pattern lacks an entry.
+bool ConstraintSolver::Impl::map_blocks(const mjModel* m, const mjData* d, const Structure& p) {
+  const int nv = m->nv, nefc = d->nefc;
+  const int* outer = p.hessian.outerIndexPtr();
+  const int* inner = p.hessian.innerIndexPtr();
+  const bool sparse = mj_isSparse(m);
+  blocks.clear();
+  cols.clear();
+  dest.clear();
+  packed.clear();
+  // The value index of (r, c), r >= c; -1 (noted as missing) if the pattern has none.
+  auto find = [&](int r, int c) {
+    const int* begin = inner + outer[c];
+    const int* end = inner + outer[c + 1];
+    const int* at = std::lower_bound(begin, end, r);
+    if (at == end || *at != r) {
+      missing.emplace_back(r, c);
+      return -1;
+    }
+    return static_cast<int>(at - inner);
+  };
+  mass_dest.clear();
+  for (int i = 0; i < nv; ++i) {
+    for (int j = i; j >= 0; j = m->dof_parentid[j]) mass_dest.push_back(find(i, j));
+  }
+  std::vector<int>& row_cols = scratch_cols;
+  auto columns_of = [&](int row, int dim) {
+    row_cols.clear();
+    if (sparse) {
+      const int* c = d->efc_J_colind + d->efc_J_rowadr[row];
+      row_cols.assign(c, c + d->efc_J_rownnz[row]);
+      return;
+    }
+    for (int c = 0; c < nv; ++c) {
+      for (int r = row; r < row + dim; ++r) {
+        if (d->efc_J[r * nv + c] != 0.0) {
+          row_cols.push_back(c);
+          break;
+        }
+      }
+    }
+  };
+  for (int row = 0; row < nefc;) {
+    const int dim =
+        d->efc_type[row] == mjCNSTR_CONTACT_ELLIPTIC ? d->contact[d->efc_id[row]].dim : 1;
+    columns_of(row, dim);
+    const int k = static_cast<int>(row_cols.size());
+    const bool same =
+        !blocks.empty() && blocks.back().k == k &&
+        std::equal(row_cols.begin(), row_cols.end(), cols.begin() + blocks.back().cols);
+    if (!same) {
+      Block b;
+      b.first = row;
+      b.k = k;
+      b.cols = static_cast<int>(cols.size());
+      b.dest = static_cast<int>(dest.size());
+      b.packed = static_cast<int>(packed.size());
+      cols.insert(cols.end(), row_cols.begin(), row_cols.end());
+      for (int y = 0; y < k; ++y) {
+        for (int x = y; x < k; ++x) dest.push_back(find(row_cols[x], row_cols[y]));
+      }
+      blocks.push_back(b);
+    }
+    Block& b = blocks.back();
+    const int* bc = cols.data() + b.cols;
+    for (int r = row; r < row + dim; ++r) {
+      if (sparse) {
+        const double* v = d->efc_J + d->efc_J_rowadr[r];
+        packed.insert(packed.end(), v, v + k);
+      } else {
+        for (int x = 0; x < k; ++x) packed.push_back(d->efc_J[r * nv + bc[x]]);
+      }
+    }
+    row += dim;
+    b.end = row;
+  }
+  return missing.empty();
+}
+
+// H = M + sum over quadratic rows of D J_i' J_i + sum over cone contacts of J_c' H_c J_c, at the
+// states (and cone Hessians) mj_constraintUpdate left in d, into the pattern's values.
+void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
+  double* values = p.hessian.valuePtr();
+  std::fill(values, values + p.hessian.nonZeros(), 0.0);
+  for (size_t i = 0, n = mass_dest.size(); i < n; ++i) values[mass_dest[i]] += d->qM[i];
+  for (const Block& b : blocks) {
+    const int k = b.k;
+    block.assign(static_cast<size_t>(k) * k, 0.0);  // lower triangle, column by column
+    const double* jrow = packed.data() + b.packed;
+    for (int row = b.first; row < b.end;) {
+      const bool elliptic = d->efc_type[row] == mjCNSTR_CONTACT_ELLIPTIC;
+      const int dim = elliptic ? d->contact[d->efc_id[row]].dim : 1;
+      const int state = d->efc_state[row];
+      if (elliptic && state == mjCNSTRSTATE_CONE) {
+        // block += J_c' (H_c J_c)
+        const mjtNum* hc = d->contact[d->efc_id[row]].H;
+        hj.assign(static_cast<size_t>(dim) * k, 0.0);
+        for (int x = 0; x < dim; ++x) {
+          for (int y = 0; y < dim; ++y) {
+            const double h = hc[x * dim + y];
+            const double* jy = jrow + y * k;
+            double* out = hj.data() + x * k;
+            for (int c = 0; c < k; ++c) out[c] += h * jy[c];
+          }
+        }
+        for (int x = 0; x < dim; ++x) {
+          const double* jx = jrow + x * k;
+          const double* hx = hj.data() + x * k;
+          for (int c = 0; c < k; ++c) {
+            const double hv = hx[c];
+            double* col = block.data() + c * k;
+            for (int r = c; r < k; ++r) col[r] += jx[r] * hv;
+          }
+        }
+      } else if (state == mjCNSTRSTATE_QUADRATIC) {
+        for (int x = 0; x < dim; ++x) {
+          const double* jx = jrow + x * k;
+          const double w = d->efc_D[row + x];
+          for (int c = 0; c < k; ++c) {
+            const double wc = w * jx[c];
+            if (wc == 0.0) continue;
+            double* col = block.data() + c * k;
+            for (int r = c; r < k; ++r) col[r] += jx[r] * wc;
+          }
+        }
+      }
+      jrow += dim * k;
+      row += dim;
+    }
+    const int* to = dest.data() + b.dest;
+    for (int c = 0; c < k; ++c) {
+      const double* col = block.data() + c * k;
+      for (int r = c; r < k; ++r) values[*to++] += col[r];
+    }
+  }
+}
+
+// out = P^-1 in, P the factored Hessian; M^-1 in where it could not be factored.
+bool ConstraintSolver::Impl::precondition(const mjModel* m, mjData* d, Structure& p, bool factored,
+                                          const double* in, double* out) {
+  if (!factored) {
+    mj_solveM(m, d, out, in, 1);
+    return false;
+  }
+  Eigen::Map<const Eigen::VectorXd> b(in, m->nv);
+  Eigen::Map<Eigen::VectorXd> x(out, m->nv);
+  x = p.factor->solve(b);
+  return true;
+}
+
+// mj_constraintUpdate at qacc (jaref current), plus Gauss's cost; the gradient of the total.
+double ConstraintSolver::Impl::update(const mjModel* m, mjData* d, const double* qacc) {
+  double cost = 0.0;
+  mj_constraintUpdate(m, d, jaref.data(), &cost, 1);
+  for (int i = 0; i < m->nv; ++i) {
+    const double r = ma[i] - d->qfrc_smooth[i];
+    cost += 0.5 * r * (qacc[i] - d->qacc_smooth[i]);
+    grad[i] = r - d->qfrc_constraint[i];
+  }
+  return cost;
+}
+
+// Per-row coefficients of the cost along `search` (Mv and Jv computed).
+void ConstraintSolver::Impl::prepare_line(const mjModel* m, const mjData* d) {
+  const int nv = m->nv, nefc = d->nefc;
+  gauss1 = 0.0;
+  gauss2 = 0.0;
+  for (int i = 0; i < nv; ++i) {
+    gauss1 += search[i] * (ma[i] - d->qfrc_smooth[i]);
+    gauss2 += 0.5 * search[i] * mv[i];
+  }
+  for (int i = 0; i < nefc; ++i) {
+    const double w = d->efc_D[i];
+    quad[3 * i] = 0.5 * w * jaref[i] * jaref[i];
+    quad[3 * i + 1] = w * jaref[i] * jv[i];
+    quad[3 * i + 2] = 0.5 * w * jv[i] * jv[i];
+  }
+  for (int i = 0; i < nefc;) {
+    if (d->efc_type[i] != mjCNSTR_CONTACT_ELLIPTIC) {
+      ++i;
+      continue;
+    }
+    const mjContact& c = d->contact[d->efc_id[i]];
+    double* e = &cone[6 * i];
+    e[0] = jaref[i] * c.mu;
+    e[1] = jv[i] * c.mu;
+    e[2] = e[3] = e[4] = 0.0;
+    for (int j = 1; j < c.dim; ++j) {
+      const double u = jaref[i + j] * c.friction[j - 1], v = jv[i + j] * c.friction[j - 1];
+      e[2] += u * u;
+      e[3] += u * v;
+      e[4] += v * v;
+    }
+    e[5] = d->efc_D[i] / (c.mu * c.mu * (1.0 + c.mu * c.mu));
+    i += c.dim;
+  }
+}
+
+LinePoint ConstraintSolver::Impl::evaluate(const mjData* d, double alpha) const {
+  // Quadratic pieces are summed as polynomials in alpha; the cone's middle zone directly.
+  double q0 = gauss0, q1 = gauss1, q2 = gauss2;
+  double cost = 0.0, slope = 0.0, curvature = 0.0;
+  auto add = [&](int i) {
+    q0 += quad[3 * i];
+    q1 += quad[3 * i + 1];
+    q2 += quad[3 * i + 2];
+  };
+  const int ne = d->ne, nf = d->nf, nefc = d->nefc;
+  for (int i = 0; i < ne; ++i) add(i);
+  for (int i = ne; i < ne + nf; ++i) {
+    const double x = jaref[i] + alpha * jv[i];
+    const double f = d->efc_frictionloss[i], bound = d->efc_R[i] * f;
+    if (x > -bound && x < bound) {
+      add(i);
+    } else {  // linear: f |x| - f bound / 2
+      const double sign = x <= -bound ? -1.0 : 1.0;
+      q0 += f * (sign * jaref[i] - 0.5 * bound);
+      q1 += f * sign * jv[i];
+    }
+  }
+  for (int i = ne + nf; i < nefc;) {
+    if (d->efc_type[i] != mjCNSTR_CONTACT_ELLIPTIC) {
+      if (jaref[i] + alpha * jv[i] < 0.0) add(i);
+      ++i;
+      continue;
+    }
+    const mjContact& c = d->contact[d->efc_id[i]];
+    const double* e = &cone[6 * i];
+    const double n = e[0] + alpha * e[1];
+    const double t2 = e[2] + alpha * (2.0 * e[3] + alpha * e[4]);
+    if (t2 <= 0.0) {
+      if (n < 0.0) {
+        for (int j = 0; j < c.dim; ++j) add(i + j);
+      }
+    } else {
+      const double t = std::sqrt(t2);
+      if (n >= c.mu * t) {
+        // top zone: no force
+      } else if (c.mu * n + t <= 0.0) {
+        for (int j = 0; j < c.dim; ++j) add(i + j);
+      } else {
+        const double t1 = (e[3] + alpha * e[4]) / t;
+        const double tt = e[4] / t - (e[3] + alpha * e[4]) * t1 / t2;
+        const double gap = n - c.mu * t, gap1 = e[1] - c.mu * t1;
+        cost += 0.5 * e[5] * gap * gap;
+        slope += e[5] * gap * gap1;
+        curvature += e[5] * (gap1 * gap1 - gap * c.mu * tt);
+      }
+    }
+    i += c.dim;
+  }
+  LinePoint p;
+  p.alpha = alpha;
+  p.cost = cost + q0 + alpha * (q1 + alpha * q2);
+  p.slope = slope + q1 + 2.0 * alpha * q2;
+  p.curvature = std::max(curvature + 2.0 * q2, mjMINVAL);
+  return p;
+}
+
+// The step along `search` that minimises the cost: Newton's steps on the line's convex cost,
+// bisection where one would leave the bracket. Returns 0 when no step lowers the cost.
+double ConstraintSolver::Impl::line_search(const mjModel* m, mjData* d) {
+  const int nv = m->nv;
+  double norm = 0.0;
+  for (int i = 0; i < nv; ++i) norm += search[i] * search[i];
+  norm = std::sqrt(norm);
+  if (norm < mjMINVAL) return 0.0;
+  // MuJoCo's: the line's slope is small enough at this fraction of the tolerance, scaled.
+  const double slope_tol = m->opt.tolerance * 0.01 * norm * m->stat.meaninertia * std::max(1, nv);
+  mj_mulM(m, d, mv.data(), search.data());
+  mj_mulJacVec(m, d, jv.data(), search.data());
+  gauss0 = 0.0;  // the cost at alpha = 0 is the caller's; evaluate() gives it relative to that
+  prepare_line(m, d);
+  const LinePoint p0 = evaluate(d, 0.0);
+  if (p0.slope >= -slope_tol) return 0.0;  // not a descent (or converged along it)
+  LinePoint lo = p0, hi;
+  bool bracketed = false;
+  LinePoint best = p0;
+  double alpha = -p0.slope / p0.curvature;
+  for (int k = 0; k < 50; ++k) {
+    const LinePoint p = evaluate(d, alpha);
+    if (p.cost < best.cost) best = p;
+    if (std::abs(p.slope) < slope_tol) break;
+    if (p.slope < 0.0) {
+      lo = p;
+    } else {
+      hi = p;
+      bracketed = true;
+    }
+    double next = p.alpha - p.slope / p.curvature;
+    if (bracketed && !(next > lo.alpha && next < hi.alpha)) next = 0.5 * (lo.alpha + hi.alpha);
+    if (next == p.alpha) break;
+    alpha = next;
+  }
+  return best.alpha;
+}
+
+void ConstraintSolver::solve(const mjModel* m, mjData* d) {
+  Impl& s = *impl_;
+  const auto started = mjcb_time ? mjcb_time() : 0.0;
+  const int nv = m->nv, nefc = d->nefc;
+  if (nefc == 0) {
+    mju_copy(d->qacc, d->qacc_smooth, nv);
+    mju_copy(d->qacc_warmstart, d->qacc_smooth, nv);
+    mju_zero(d->qfrc_constraint, nv);
+    d->solver_iter = 0;
+    return;
+  }
+  for (auto* v : {&s.ma, &s.mv, &s.grad, &s.pgrad, &s.search, &s.grad_old, &s.pgrad_old}) {
+    v->resize(nv);
+  }
+  s.jaref.resize(nefc);
+  s.jv.resize(nefc);
+  s.quad.resize(3 * static_cast<size_t>(nefc));
+  s.cone.resize(6 * static_cast<size_t>(nefc));
+
+  // efc_b = J qacc_smooth - aref; the start is the better of the warm start and qacc_smooth.
+  mj_mulJacVec(m, d, d->efc_b, d->qacc_smooth);
+  mju_subFrom(d->efc_b, d->efc_aref, nefc);
+  mju_copy(d->qacc, d->qacc_smooth, nv);
+  if (!mjDISABLED(mjDSBL_WARMSTART)) {
+    mj_mulJacVec(m, d, s.jaref.data(), d->qacc_warmstart);
+    mju_subFrom(s.jaref.data(), d->efc_aref, nefc);
+    double warm = 0.0, smooth = 0.0;
+    mj_constraintUpdate(m, d, s.jaref.data(), &warm, 0);
+    mj_mulM(m, d, s.ma.data(), d->qacc_warmstart);
+    for (int i = 0; i < nv; ++i) {
+      warm += 0.5 * (s.ma[i] - d->qfrc_smooth[i]) * (d->qacc_warmstart[i] - d->qacc_smooth[i]);
+    }
+    mj_constraintUpdate(m, d, d->efc_b, &smooth, 0);
+    if (warm <= smooth) mju_copy(d->qacc, d->qacc_warmstart, nv);
+  }
+
+  mj_mulM(m, d, s.ma.data(), d->qacc);
+  mj_mulJacVec(m, d, s.jaref.data(), d->qacc);
+  mju_subFrom(s.jaref.data(), d->efc_aref, nefc);
+
+  // The preconditioner: the Hessian at the constraint states of the point it is built at.
+  Pattern& pattern = s.pattern_for(m);
+  Structure* structure = &pattern.base;
+  bool mapped = s.map_blocks(m, d, *structure);
+  if (!mapped) {
+    structure = &s.extend(nv, pattern);
+    s.missing.clear();
+    mapped = s.map_blocks(m, d, *structure);
+    s.missing.clear();
+  }
+  Structure& p = *structure;
+  bool factored = false;
+  std::vector<int>& factored_state = s.factored_state;
+  auto refactor = [&] {
+    factored = false;
+    if (p.analysed && mapped) {
+      s.assemble(d, p);
+      p.factor->factorize(p.hessian);
+      factored = p.factor->info() == Eigen::Success;
+    }
+    if (!factored) ++s.fallbacks;
+    factored_state.assign(d->efc_state, d->efc_state + nefc);
+  };
+
+  double cost = s.update(m, d, d->qacc);
+  refactor();
+  s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
+  for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+
+  const double scale = 1.0 / (m->stat.meaninertia * std::max(1, nv));
+  int iter = 0, since_factor = 0;
+  while (iter < m->opt.iterations) {
+    const double alpha = s.line_search(m, d);
+    if (alpha == 0.0) {
+      // No step lowers the cost along this direction: done, unless the preconditioner was built
+      // at other constraint states (then once more along its fresh Newton direction).
+      if (since_factor == 0 || !factored) break;
+      refactor();
+      since_factor = 0;
+      s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
+      for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+      continue;
+    }
+    mju_addToScl(d->qacc, s.search.data(), alpha, nv);
+    mju_addToScl(s.ma.data(), s.mv.data(), alpha, nv);
+    mju_addToScl(s.jaref.data(), s.jv.data(), alpha, nefc);
+    std::swap(s.grad, s.grad_old);
+    std::swap(s.pgrad, s.pgrad_old);
+    const double old_cost = cost;
+    cost = s.update(m, d, d->qacc);
+    ++iter;
+    ++since_factor;
+    const double improvement = (old_cost - cost) * scale;
+    const double gradient = mju_norm(s.grad.data(), nv) * scale;
+    if (gradient < m->opt.tolerance) break;
+    const bool stale =
+        factored && !std::equal(factored_state.begin(), factored_state.end(), d->efc_state);
+    const bool small = improvement < m->opt.tolerance;
+    if (small && !stale) break;
+    if (stale && (small || since_factor >= kRefreshEvery)) {
+      refactor();
+      since_factor = 0;
+      s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
+      for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+      continue;
+    }
+    s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
+    // Polak-Ribiere, restarted when it turns negative or stops descending.
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < nv; ++i) {
+      num += s.grad[i] * (s.pgrad[i] - s.pgrad_old[i]);
+      den += s.grad_old[i] * s.pgrad_old[i];
+    }
+    const double beta = std::max(0.0, num / std::max(mjMINVAL, den));
+    double descent = 0.0;
+    for (int i = 0; i < nv; ++i) {
+      s.search[i] = -s.pgrad[i] + beta * s.search[i];
+      descent += s.search[i] * s.grad[i];
+    }
+    if (descent >= 0.0) {
+      for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+    }
+  }
+  d->solver_iter = iter;
+  d->solver_nnz = 0;
+  mju_copy(d->qacc_warmstart, d->qacc, nv);
+  if (mjcb_time) {
+    d->timer[mjTIMER_CONSTRAINT].duration += mjcb_time() - started;
+    d->timer[mjTIMER_CONSTRAINT].number++;
+  }
+}
+
+}  // namespace pb
