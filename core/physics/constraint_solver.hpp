@@ -18,6 +18,11 @@ namespace pb {
 /// The MJCF custom numeric (value 1) by which a scene asks step() for this solve instead of
 /// MuJoCo's CG (Solver::pcg).
 inline constexpr const char* kPreconditionedCg = "pb_preconditioned_cg";
+/// A model with fewer degrees of freedom is solved by MuJoCo's CG even so: a wrapped load's
+/// reduced model (the pallet and the belt, 8) takes MuJoCo's CG a few iterations, and building
+/// and factoring a preconditioner costs more than it saves (stable-dairy-slab's envelope 17 ->
+/// 28 ms, random-scanner-feed's 25 -> 28). Three free bodies on the belt are 20.
+inline constexpr int kPreconditionedCgMinDofs = 20;
 
 /// Solves the constraints of one step, as mj_fwdConstraint does for the primal solvers: from the
 /// better of the warm start and the unconstrained acceleration, it sets qacc, efc_force,

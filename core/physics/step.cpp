@@ -28,10 +28,12 @@ bool solver_kinetic(const mjModel* m) {
   return id >= 0 && m->numeric_data[m->numeric_adr[id]] != 0.0;
 }
 
-// Whether the scene asks for our preconditioned CG (kPreconditionedCg) and MuJoCo's is the
-// model's solver.
+// Whether the scene asks for our preconditioned CG (kPreconditionedCg), MuJoCo's is the model's
+// solver and the model is large enough for it to pay.
 bool preconditioned_cg(const mjModel* m) {
-  if (m->nnumeric == 0 || m->opt.solver != mjSOL_CG) return false;
+  if (m->nnumeric == 0 || m->opt.solver != mjSOL_CG || m->nv < kPreconditionedCgMinDofs) {
+    return false;
+  }
   const int id = mj_name2id(m, mjOBJ_NUMERIC, kPreconditionedCg);
   return id >= 0 && m->numeric_data[m->numeric_adr[id]] != 0.0;
 }

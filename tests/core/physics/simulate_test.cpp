@@ -525,8 +525,8 @@ class SimulateTest : public QObject {
   // for a whole hold: the settle ran its whole 3 s (9 s of CPU for 96 such cartons). Items that
   // stay within what the rest speed carries them over the hold have held on average no faster
   // than it: settled one hold after the first rest, at that rest. The chatter is MuJoCo's CG's
-  // (it stops 1e-4 from the converged solve); solved by ours (Solver::pcg, within 1e-6) the same
-  // load is quiet, and the speed rule alone settles it.
+  // (it stops 1e-4 from the converged solve); solved by ours (Solver::pcg) the same load is
+  // quiet enough for the speed rule alone to settle it within a second of its first rest.
   void aChatteringLoadIsSettledOneHoldAfterItsFirstRest() {
     std::vector<Item> items;
     for (double x : {-0.45, -0.15}) {
@@ -549,8 +549,9 @@ class SimulateTest : public QObject {
       speed_only.calm_hold = false;
       auto rest = quiet.sim->settle(speed_only);
       QVERIFY2(rest, describe(rest.diagnostics).c_str());
-      QVERIFY2(rest->settle_run_s <= rest->settle_time_s + speed_only.hold_s + 0.1,
-               std::to_string(rest->settle_run_s).c_str());
+      QVERIFY2(
+          rest->settle_run_s <= rest->settle_time_s + 1.0,
+          (std::to_string(rest->settle_time_s) + " " + std::to_string(rest->settle_run_s)).c_str());
     }
     full.solver = Solver::cg;
     Rig rig = build(pallet_of(items), {1.0, 0.5, 0.4}, full);
