@@ -96,7 +96,7 @@ struct ConstraintSolver::Impl {
   std::vector<double> quad;         // per constraint row: 0.5 D x0^2, D x0 v, 0.5 D v^2
   std::vector<double> cone;         // per elliptic contact's first row: U0, V0, UU, UV, VV, Dm
   std::vector<int> factored_state;  // efc_state where the preconditioner was built
-  // The solve's constraint blocks (map_blocks).
+  // The solve's constraint blocks (collect_blocks, map_dest).
   struct Block {
     int first = 0, end = 0;              // rows
     int k = 0;                           // columns
@@ -105,7 +105,7 @@ struct ConstraintSolver::Impl {
   std::vector<Block> blocks;
   std::vector<int> cols, dest, mass_dest, scratch_cols, order, key;
   std::vector<double> packed, block, hj;
-  double gauss0 = 0.0, gauss1 = 0.0, gauss2 = 0.0;
+  double gauss1 = 0.0, gauss2 = 0.0;  // Gauss's cost along the line: its slope and half curvature
 
   Pattern& pattern_for(const mjModel* m);
   void couplings_key();
@@ -113,7 +113,7 @@ struct ConstraintSolver::Impl {
   void collect_blocks(const mjModel* m, const mjData* d);
   void map_dest(const mjModel* m, const Structure& p);
   void assemble(const mjData* d, Structure& p);
-  bool precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
+  void precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
                     double* out);
   double update(const mjModel* m, mjData* d, const double* qacc);
   void prepare_line(const mjModel* m, const mjData* d);
@@ -356,16 +356,15 @@ void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
 }
 
 // out = P^-1 in, P the factored Hessian; M^-1 in where it could not be factored.
-bool ConstraintSolver::Impl::precondition(const mjModel* m, mjData* d, Structure& p, bool factored,
+void ConstraintSolver::Impl::precondition(const mjModel* m, mjData* d, Structure& p, bool factored,
                                           const double* in, double* out) {
   if (!factored) {
     mj_solveM(m, d, out, in, 1);
-    return false;
+    return;
   }
   Eigen::Map<const Eigen::VectorXd> b(in, m->nv);
   Eigen::Map<Eigen::VectorXd> x(out, m->nv);
   x = p.factor->solve(b);
-  return true;
 }
 
 // mj_constraintUpdate at qacc (jaref current), plus Gauss's cost; the gradient of the total.
@@ -417,8 +416,9 @@ void ConstraintSolver::Impl::prepare_line(const mjModel* m, const mjData* d) {
 }
 
 LinePoint ConstraintSolver::Impl::evaluate(const mjData* d, double alpha) const {
-  // Quadratic pieces are summed as polynomials in alpha; the cone's middle zone directly.
-  double q0 = gauss0, q1 = gauss1, q2 = gauss2;
+  // Quadratic pieces are summed as polynomials in alpha; the cone's middle zone directly. The
+  // cost is relative to Gauss's at alpha = 0.
+  double q0 = 0.0, q1 = gauss1, q2 = gauss2;
   double cost = 0.0, slope = 0.0, curvature = 0.0;
   auto add = [&](int i) {
     q0 += quad[3 * i];
@@ -489,7 +489,6 @@ double ConstraintSolver::Impl::line_search(const mjModel* m, mjData* d) {
   const double slope_tol = m->opt.tolerance * 0.01 * norm * m->stat.meaninertia * std::max(1, nv);
   mj_mulM(m, d, mv.data(), search.data());
   mj_mulJacVec(m, d, jv.data(), search.data());
-  gauss0 = 0.0;  // the cost at alpha = 0 is the caller's; evaluate() gives it relative to that
   prepare_line(m, d);
   const LinePoint p0 = evaluate(d, 0.0);
   if (p0.slope >= -slope_tol) return 0.0;  // not a descent (or converged along it)

@@ -42,8 +42,8 @@ struct SceneOptions {
   /// Coulomb's circle").
   Cone cone = Cone::elliptic;
   double impratio = 1.0;
-  /// A cap, not a count: CG converges in 10-60 iterations a step, up to about 230 on a 48-carton
-  /// brick's hardest.
+  /// A cap, not a count: MuJoCo's CG converges in 10-60 iterations a step, up to about 230 on a
+  /// large brick's hardest; ours in 2-8, up to about 25 with a few factorizations.
   int iterations = 1000;
   /// MuJoCo's: the solve stops once an iteration improves its cost, or the cost's gradient is,
   /// below this (scaled by the model's mean inertia and degrees of freedom). Looser halves CG's
