@@ -21,7 +21,8 @@ namespace pb {
 
 enum class Integrator { euler, implicit, rk4 };
 /// pcg: conjugate gradient preconditioned with the constraints' Hessian, our own
-/// (constraint_solver.hpp); the others are MuJoCo's.
+/// (constraint_solver.hpp), where pb::step runs the step (the Euler integrator) and the model has
+/// kPreconditionedCgMinDofs; MuJoCo's CG elsewhere. The others are MuJoCo's.
 enum class Solver { newton, pgs, cg, pcg };
 enum class Cone { pyramidal, elliptic };
 

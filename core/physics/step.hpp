@@ -83,7 +83,8 @@ bool only_pair_sliding(const mjModel* m, const mjData* d, int pair);
 /// contacts push the surfaces apart. A contact whose friction[4] does not name a pair (the
 /// aftermath model's geom contacts) is left as MuJoCo made it. Level contacts' tangent directions
 /// follow a stated DemandField. While no pair has broken loose and no field is stated the step is
-/// mj_step's, bit for bit.
+/// mj_step's, bit for bit, unless the scene asks for our constraint solve (Solver::pcg,
+/// kPreconditionedCg: then mj_fwdConstraint's part is constraint_solver.hpp's).
 void step(const mjModel* m, mjData* d);
 
 }  // namespace pb
