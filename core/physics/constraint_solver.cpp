@@ -537,6 +537,7 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
   mj_mulJacVec(m, d, d->efc_b, d->qacc_smooth);
   mju_subFrom(d->efc_b, d->efc_aref, nefc);
   mju_copy(d->qacc, d->qacc_smooth, nv);
+  bool from_smooth = true;
   if (!mjDISABLED(mjDSBL_WARMSTART)) {
     mj_mulJacVec(m, d, s.jaref.data(), d->qacc_warmstart);
     mju_subFrom(s.jaref.data(), d->efc_aref, nefc);
@@ -547,12 +548,17 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
       warm += 0.5 * (s.ma[i] - d->qfrc_smooth[i]) * (d->qacc_warmstart[i] - d->qacc_smooth[i]);
     }
     mj_constraintUpdate(m, d, d->efc_b, &smooth, 0);
-    if (warm <= smooth) mju_copy(d->qacc, d->qacc_warmstart, nv);
+    if (warm <= smooth) {
+      mju_copy(d->qacc, d->qacc_warmstart, nv);
+      from_smooth = false;
+    }
   }
-
-  mj_mulM(m, d, s.ma.data(), d->qacc);
-  mj_mulJacVec(m, d, s.jaref.data(), d->qacc);
-  mju_subFrom(s.jaref.data(), d->efc_aref, nefc);
+  if (from_smooth) {
+    // The start is qacc_smooth (its J qacc - aref is efc_b); otherwise jaref and ma are the warm
+    // start's already.
+    mju_copy(s.jaref.data(), d->efc_b, nefc);
+    mj_mulM(m, d, s.ma.data(), d->qacc);
+  }
 
   // The preconditioner: the Hessian at the constraint states of the point it is built at.
   Pattern& pattern = s.pattern_for(m);
@@ -572,23 +578,27 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
     factored_state.assign(d->efc_state, d->efc_state + nefc);
   };
 
+  int since_factor = 0;
+  // The preconditioner built here, and the search restarted along its Newton direction.
+  auto restart = [&] {
+    refactor();
+    since_factor = 0;
+    s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
+    for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+  };
+
   double cost = s.update(m, d, d->qacc);
-  refactor();
-  s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
-  for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+  restart();
 
   const double scale = 1.0 / (m->stat.meaninertia * std::max(1, nv));
-  int iter = 0, since_factor = 0;
+  int iter = 0;
   while (iter < m->opt.iterations) {
     const double alpha = s.line_search(m, d);
     if (alpha == 0.0) {
       // No step lowers the cost along this direction: done, unless the preconditioner was built
       // at other constraint states (then once more along its fresh Newton direction).
       if (since_factor == 0 || !factored) break;
-      refactor();
-      since_factor = 0;
-      s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
-      for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+      restart();
       continue;
     }
     mju_addToScl(d->qacc, s.search.data(), alpha, nv);
@@ -611,10 +621,7 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
     const bool small = improvement < m->opt.tolerance;
     if (small && changed <= kStopChangedRows * nefc) break;
     if (stale && (small || since_factor >= kRefreshEvery)) {
-      refactor();
-      since_factor = 0;
-      s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
-      for (int i = 0; i < nv; ++i) s.search[i] = -s.pgrad[i];
+      restart();
       continue;
     }
     s.precondition(m, d, p, factored, s.grad.data(), s.pgrad.data());
