@@ -326,7 +326,7 @@ struct Batch::Impl {
     if (failure.empty()) {
       store(d, sim);
     } else {
-      mj_resetData(m, d);  // an engine error leaves the stack pointer raised
+      reset_data(m, d);  // an engine error leaves the stack pointer raised
       errors[std::size_t(sim)] = std::move(failure);
     }
   }
@@ -409,7 +409,7 @@ Result<Batch> Batch::create(const mjModel& model, int sims, int threads) {
   }
   auto impl = std::make_unique<Impl>(std::move(own), sims, threads, std::move(worker_data));
   mjData* fresh = impl->data.front().get();
-  mj_resetData(impl->model.get(), fresh);
+  reset_data(impl->model.get(), fresh);
   impl->store(fresh, 0);
   std::copy_n(impl->row(0), impl->layout.stride, impl->reset_row.begin());
   impl->reset_warning = impl->warnings.front();
@@ -557,7 +557,7 @@ std::optional<BatchError> Batch::set_const(const Selection& selection) {
         std::copy_n(rows[k].data() + std::ptrdiff_t(sim) * ref.size, ref.size, ref.values);
       }
       if (auto error = guarded([&] { mj_setConst(m, d); })) {
-        mj_resetData(m, d);
+        reset_data(m, d);
         if (failed.empty()) first_error = "simulation " + std::to_string(sim) + ": " + *error;
         failed.push_back(sim);
         continue;

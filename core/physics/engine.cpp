@@ -8,8 +8,13 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <optional>
+#include <vector>
 
 #include <sys/mman.h>
+#include <unistd.h>
+
+#include <mujoco/mjxmacro.h>
 
 namespace pb {
 
@@ -44,6 +49,84 @@ int filtered_box_box(const mjModel* m, const mjData* d, mjContact* con, int g1, 
   return kept;
 }
 
+// MuJoCo 2.2.2's mjData holds, for its dual solvers (PGS, and the noslip pass), the njmax x njmax
+// matrix A R = J M^-1 J' + R and its column indices: 12 njmax^2 bytes, 89 % of a 96-carton
+// brick's mjData (374 of 420 MB). A primal solve (CG, Newton, ours) never reads or writes them
+// (engine_core_constraint.c: mj_projectConstraint returns unless mj_isDual); only mj_resetData's
+// memset and mj_copyData's memcpy touch them. So for a model that solves primal, make_data maps
+// the buffer's span of those two arrays onto one small block of shared memory, over and over: the
+// memset writes the same few pages again instead of faulting in hundreds of MB (first touch of
+// fresh memory cost 0.3-2.4 s per 272 MB on this VM, clear_page 20 % of a brick 96 envelope), and
+// the span's resident memory is kSharedSpanChunk. Each span is one anonymous memory file mapped
+// ceil(span / chunk) times; engine_free recognises the buffer and unmaps it.
+constexpr std::size_t kSharedSpanChunk = kSharedSpanBytes;
+
+struct DualMatrixSpan {
+  std::size_t buffer_bytes = 0;    ///< the mjData buffer's size (mj_makeData asks for exactly this)
+  std::size_t begin = 0, end = 0;  ///< efc_AR_colind's start and efc_AR's end in it
+};
+
+// The span of efc_AR_colind and efc_AR in an mjData buffer of `m`, laid out as engine_io.c lays
+// it: mjxmacro.h's order, each array at the next 64-byte boundary.
+DualMatrixSpan dual_matrix_span(const mjModel* m) {
+  DualMatrixSpan span;
+  std::size_t offset = 0;
+  MJDATA_POINTERS_PREAMBLE(m)
+#define X(type, name, nr, nc)                                                 \
+  offset += (64 - offset % 64) % 64;                                          \
+  if (std::strcmp(#name, "efc_AR_colind") == 0) span.begin = offset;          \
+  offset += sizeof(type) * static_cast<std::size_t>(m->nr) * std::size_t(nc); \
+  if (std::strcmp(#name, "efc_AR") == 0) span.end = offset;
+  MJDATA_POINTERS
+#undef X
+  span.buffer_bytes = offset;
+  return span;
+}
+
+bool solves_dual(const mjModel* m) {
+  return m->opt.solver == mjSOL_PGS || m->opt.noslip_iterations > 0;
+}
+
+// The span make_data asks engine_malloc to share in the buffer it is about to allocate.
+thread_local std::optional<DualMatrixSpan> t_share_span;
+
+struct SharedBlock {
+  void* base = nullptr;
+  std::size_t bytes = 0;       ///< mapped
+  std::size_t lo = 0, hi = 0;  ///< the offsets of the span mapped onto the chunk
+};
+std::mutex g_shared_mutex;
+std::vector<SharedBlock> g_shared_blocks;
+std::atomic<int> g_shared_count{0};
+
+// A buffer of span.buffer_bytes whose page-aligned interior of [begin, end) is one chunk of
+// shared memory mapped again and again; nullptr if the kernel refuses any step.
+void* shared_span_alloc(const DualMatrixSpan& span) {
+  const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  const std::size_t bytes = (span.buffer_bytes + page - 1) / page * page;
+  void* base = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (base == MAP_FAILED) return nullptr;
+  auto* first = static_cast<char*>(base);
+  madvise(first, bytes, MADV_HUGEPAGE);  // the rest of the buffer, as engine_malloc's
+  char* lo = first + (span.begin + page - 1) / page * page;
+  char* hi = first + span.end / page * page;
+  const int fd = lo < hi ? memfd_create("pb-dual-matrix", MFD_CLOEXEC) : -1;
+  bool mapped = fd >= 0 && ftruncate(fd, off_t(kSharedSpanChunk)) == 0;
+  for (char* at = lo; mapped && at < hi; at += kSharedSpanChunk) {
+    const std::size_t n = std::min(kSharedSpanChunk, std::size_t(hi - at));
+    mapped = mmap(at, n, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED, fd, 0) != MAP_FAILED;
+  }
+  if (fd >= 0) close(fd);  // the mappings keep the memory file
+  if (!mapped) {
+    munmap(base, bytes);
+    return nullptr;
+  }
+  std::lock_guard lock(g_shared_mutex);
+  g_shared_blocks.push_back({base, bytes, std::size_t(lo - first), std::size_t(hi - first)});
+  g_shared_count.fetch_add(1);
+  return base;
+}
+
 // MuJoCo's allocator (mju_malloc), with one change: a block of tens of megabytes is asked for in
 // huge pages. MuJoCo 2.2.2 zeroes each mjData's whole buffer as it makes it (mj_resetData), and a
 // large load's buffer is hundreds of MB (its njmax x njmax efc_AR): a 96-carton column's 380 MB
@@ -51,6 +134,11 @@ int filtered_box_box(const mjModel* m, const mjData* d, mjContact* con, int g1, 
 // MB ones (core/README.md, "Where a large load's prepare goes"). Alignment and padding as MuJoCo's
 // own (64 bytes); with the kernel's transparent huge pages off, madvise is a no-op.
 void* engine_malloc(std::size_t size) {
+  if (t_share_span && size == t_share_span->buffer_bytes) {
+    const DualMatrixSpan span = *t_share_span;
+    t_share_span.reset();
+    if (void* block = shared_span_alloc(span)) return block;
+  }
   constexpr std::size_t kHugePage = std::size_t{2} << 20;
   constexpr std::size_t kHugeFrom = 16 * kHugePage;
   if (size >= kHugeFrom) {
@@ -63,7 +151,27 @@ void* engine_malloc(std::size_t size) {
   return std::aligned_alloc(64, (size + 63) / 64 * 64);
 }
 
+std::optional<SharedBlock> shared_block(const void* buffer) {
+  if (buffer == nullptr || g_shared_count.load() == 0) return std::nullopt;
+  std::lock_guard lock(g_shared_mutex);
+  for (const SharedBlock& b : g_shared_blocks) {
+    if (b.base == buffer) return b;
+  }
+  return std::nullopt;
+}
+
 void engine_free(void* block) {
+  if (block != nullptr && g_shared_count.load() > 0) {
+    std::lock_guard lock(g_shared_mutex);
+    auto it = std::find_if(g_shared_blocks.begin(), g_shared_blocks.end(),
+                           [&](const SharedBlock& b) { return b.base == block; });
+    if (it != g_shared_blocks.end()) {
+      munmap(it->base, it->bytes);
+      g_shared_blocks.erase(it);
+      g_shared_count.fetch_sub(1);
+      return;
+    }
+  }
   std::free(block);
 }
 
@@ -126,12 +234,59 @@ Result<ModelPtr> compile_mjcf(std::string_view xml) {
 }
 
 Result<DataPtr> make_data(const mjModel* model) {
-  mjData* raw = nullptr;
-  if (auto engine_error = guarded([&] { raw = mj_makeData(model); })) {
-    return Result<DataPtr>::failure("", *engine_error);
+  init_engine();
+  // The dual solvers' matrix shared where the model never uses it and it is worth a mapping.
+  const DualMatrixSpan span = dual_matrix_span(model);
+  const bool share = !solves_dual(model) && span.end - span.begin >= 4 * kSharedSpanChunk;
+  for (bool sharing : {share, false}) {
+    if (sharing) t_share_span = span;
+    mjData* raw = nullptr;
+    auto engine_error = guarded([&] { raw = mj_makeData(model); });
+    t_share_span.reset();
+    if (engine_error) return Result<DataPtr>::failure("", *engine_error);
+    if (raw == nullptr) return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
+    DataPtr data(raw);
+    // The layout is checked, not assumed: had MuJoCo laid the buffer out otherwise, the shared
+    // pages would hold other arrays, and the data is made again without them.
+    const auto* buffer = static_cast<const char*>(data->buffer);
+    const bool where_computed =
+        reinterpret_cast<const char*>(data->efc_AR_colind) == buffer + span.begin &&
+        reinterpret_cast<const char*>(data->efc_AR + std::size_t(model->njmax) * model->njmax) ==
+            buffer + span.end &&
+        std::size_t(data->nbuffer) == span.buffer_bytes;
+    if (!sharing || where_computed) {
+      // mj_makeData's memset mapped the chunk in again and again; reset_data never touches the
+      // span, so its page-table entries go (the memory file keeps the chunk), and with them the
+      // span's count in the resident set.
+      if (const std::optional<SharedBlock> b = shared_block(data->buffer)) {
+        madvise(static_cast<char*>(b->base) + b->lo, b->hi - b->lo, MADV_DONTNEED);
+      }
+      return Result<DataPtr>{std::move(data), {}};
+    }
   }
-  if (raw == nullptr) return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
-  return Result<DataPtr>{DataPtr(raw), {}};
+  return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
+}
+
+std::size_t shared_data_bytes(const mjData* data) {
+  const std::optional<SharedBlock> b = shared_block(data->buffer);
+  return b ? b->hi - b->lo - std::min(b->hi - b->lo, kSharedSpanChunk) : 0;
+}
+
+void reset_data(const mjModel* model, mjData* data) {
+  const std::optional<SharedBlock> b = shared_block(data->buffer);
+  if (!b) {
+    mj_resetData(model, data);
+    return;
+  }
+  // mj_resetData zeroes data->nbuffer bytes of the buffer, then sets its defaults (qpos0, the
+  // mocap poses), all in arrays before the shared span: so it is given the buffer up to the span,
+  // and the arrays after it are zeroed here. Bit for bit mj_resetData's data outside the span
+  // (engine_test).
+  const int whole = data->nbuffer;
+  data->nbuffer = static_cast<int>(b->lo);
+  mj_resetData(model, data);
+  data->nbuffer = whole;
+  std::memset(static_cast<char*>(data->buffer) + b->hi, 0, std::size_t(whole) - b->hi);
 }
 
 bool mentions_buffer_overflow(const Diagnostics& diagnostics) {

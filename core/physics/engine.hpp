@@ -7,6 +7,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -47,8 +48,24 @@ struct EngineError : std::runtime_error {
 /// Compiles MJCF text from memory (through a virtual file system; no temporary files).
 Result<ModelPtr> compile_mjcf(std::string_view xml);
 
-/// A fresh mjData for `model`, or the engine's error (e.g. its stack does not fit).
+/// A fresh mjData for `model`, or the engine's error (e.g. its stack does not fit). Where the
+/// model solves primal (not PGS, no noslip pass) the buffer's span of the dual solvers' njmax x
+/// njmax matrix and its indices, which such a solve never reads, is one 2 MB block of memory
+/// mapped over and over (engine.cpp: dual_matrix_span): most of a large load's mjData, so it
+/// costs neither the memory nor the time to fault it in. A model whose solver is later switched
+/// to PGS or given a noslip pass needs data made again.
 Result<DataPtr> make_data(const mjModel* model);
+
+/// The block of memory make_data maps a primal model's dual-solver span onto, bytes.
+inline constexpr std::size_t kSharedSpanBytes = std::size_t{2} << 20;
+
+/// Of `data`'s buffer, the bytes that make_data mapped onto shared memory beyond the one block it
+/// takes: what its nbuffer overstates its resident memory by (0 for data made otherwise).
+std::size_t shared_data_bytes(const mjData* data);
+
+/// mj_resetData, except that it leaves make_data's shared span alone: mj_resetData would write
+/// all of it, faulting every page of it in again (and counting each in the resident set).
+void reset_data(const mjModel* model, mjData* data);
 
 /// Runs `fn` and returns the engine's error message if MuJoCo raised one (the data it was using
 /// must then be reset before reuse: MuJoCo leaves its stack pointer raised).

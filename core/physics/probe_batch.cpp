@@ -40,7 +40,7 @@ Result<std::vector<SimResult>> run_probes_batched(const Scene& scene, const Rest
     }
     if (run.done()) {
       if (run.result().outcome != Outcome::unstable) {
-        mj_resetData(&m, d);
+        reset_data(&m, d);
         restore_state(start, *d);
         run.finish(m, *d);
       }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/scene.hpp"
 #include "core/physics/constraint_solver.hpp"
+#include "core/physics/engine.hpp"
 #include "core/physics/step.hpp"
 
 #include <algorithm>
@@ -206,19 +207,27 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   p.sizes.nv = static_cast<int>(nv);
   p.sizes.nstack =
       o.nstack > 0 ? o.nstack : 400000 + 200 * p.sizes.njmax + static_cast<int>(3 * nv * nv);
+  p.sizes.dual_solver = o.solver == Solver::pgs;
   return p;
 }
 
 }  // namespace
 
-double BufferSizes::data_bytes() const {
-  // MuJoCo 2.2.2's mjData (mjxmacro.h): per njmax^2 efc_AR and its column indices (8 + 4 bytes),
-  // per njmax x nv the Jacobian and its transpose with theirs (2 x (8 + 4)), the stack, and what is
-  // linear in nconmax and njmax. A 96-carton brick (njmax 5,584, nv 584): 452 MB, as measured
-  // (Simulator::data_bytes, 466 MB).
+double BufferSizes::buffer_bytes() const {
+  // MuJoCo 2.2.2's mjData buffer (mjxmacro.h): per njmax^2 efc_AR and its column indices (8 + 4
+  // bytes), per njmax x nv the Jacobian and its transpose with theirs (2 x (8 + 4)), and what is
+  // linear in nconmax and njmax.
   const double nj = njmax;
-  return 12.0 * nj * nj + 24.0 * nj * double(nv) + 8.0 * double(nstack) + 600.0 * nconmax +
-         200.0 * nj;
+  return 12.0 * nj * nj + 24.0 * nj * double(nv) + 600.0 * nconmax + 200.0 * nj;
+}
+
+double BufferSizes::data_bytes() const {
+  // The buffer and the stack, less what make_data shares of the dual solvers' matrix (engine.hpp;
+  // it keeps one 2 MB block of it). A 96-carton brick (njmax 5,584, nv 584): 78 MB.
+  const double nj = njmax;
+  const double matrix = 12.0 * nj * nj;
+  const double shared = dual_solver ? 0.0 : std::max(0.0, matrix - double(kSharedSpanBytes));
+  return buffer_bytes() - shared + 8.0 * double(nstack);
 }
 
 SceneOptions with_mujoco_solver(SceneOptions o) {
@@ -452,16 +461,28 @@ std::optional<std::string> numerical_limits_problem(const Scene& scene) {
 
 Diagnostics capacity_problems(const PalletConfig& config, const SceneOptions& options) {
   const BufferSizes sizes = scene_buffer_sizes(config, options);
-  if (sizes.data_bytes() <= kMaxSimulationBytes) return {};
-  return {{"/items",
-           "this load needs " + std::to_string(sizes.njmax) + " constraint rows (" +
-               std::to_string(config.items.size()) + " items, " + std::to_string(sizes.nconmax) +
-               " contacts): one simulation would take " +
-               fixed(sizes.data_bytes() / (1024.0 * 1024.0), 0) + " MB, above the engine's " +
-               fixed(kMaxSimulationBytes / (1024.0 * 1024.0), 0) +
-               " MB (MuJoCo 2.2 holds a rows x rows matrix per simulation); split the load "
-               "into fewer, larger items, or analyse it wrapped",
-           Severity::error}};
+  const double mb = 1024.0 * 1024.0;
+  const std::string needs = "this load needs " + std::to_string(sizes.njmax) +
+                            " constraint rows (" + std::to_string(config.items.size()) +
+                            " items, " + std::to_string(sizes.nconmax) + " contacts): ";
+  const std::string change = "; split the load into fewer, larger items, or analyse it wrapped";
+  if (sizes.buffer_bytes() > kMaxBufferBytes) {
+    return {{"/items",
+             needs + "one simulation's buffer would be " + fixed(sizes.buffer_bytes() / mb, 0) +
+                 " MB, above the " + fixed(kMaxBufferBytes / mb, 0) +
+                 " MB MuJoCo 2.2 can allocate (it holds a rows x rows matrix per simulation and "
+                 "counts its buffer in an int)" +
+                 change,
+             Severity::error}};
+  }
+  if (sizes.data_bytes() > kMaxSimulationBytes) {
+    return {{"/items",
+             needs + "one simulation would take " + fixed(sizes.data_bytes() / mb, 0) +
+                 " MB of memory, above the engine's " + fixed(kMaxSimulationBytes / mb, 0) + " MB" +
+                 change,
+             Severity::error}};
+  }
+  return {};
 }
 
 Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& options,

@@ -110,25 +110,30 @@ SceneOptions with_mujoco_solver(SceneOptions o);
 /// MuJoCo 2.2's preallocated buffers of a scene.
 struct BufferSizes {
   int nconmax = 0, njmax = 0, nstack = 0;
-  int nv = 0;  ///< the model's degrees of freedom
-  /// What one mjData of them takes (its njmax x njmax efc_AR and index, and the njmax x nv
-  /// Jacobians, dominate), bytes.
+  int nv = 0;                ///< the model's degrees of freedom
+  bool dual_solver = false;  ///< PGS: its njmax x njmax matrix is used, so it is resident
+  /// The resident memory one mjData of them takes, bytes: the njmax x nv Jacobians and the stack
+  /// dominate; the njmax x njmax matrix and its index only for a dual solver (make_data shares
+  /// their pages otherwise).
   double data_bytes() const;
+  /// The mjData buffer MuJoCo 2.2 allocates, bytes, matrix included: it counts it in an int.
+  double buffer_bytes() const;
 };
 
-/// The most one simulation of a scene may take. MuJoCo 2.2 holds an njmax x njmax matrix per
-/// mjData (and counts its buffer in an int: beyond 2 GB it cannot create one at all). The
-/// envelope's searches share SearchConfig::axis_memory_bytes (640 MB), which must hold the whole
-/// model's own mjData and the reduced ones beside it. 512 MB is an njmax of about 6,000: some
-/// 1,500 resting contacts, a 96-carton brick of dairy cases (452 MB; peak resident memory of its
-/// analysis about 540 MB, `bench scale`).
+/// The most resident memory one simulation of a scene may take. The envelope's searches share
+/// SearchConfig::axis_memory_bytes (640 MB), which must hold the whole model's own mjData and the
+/// reduced ones beside it. A 96-carton brick of dairy cases takes 78 MB.
 inline constexpr double kMaxSimulationBytes = 512.0 * 1024 * 1024;
+/// The largest mjData buffer MuJoCo 2.2 can make: it counts the buffer's bytes in an int, and the
+/// njmax x njmax matrix (12 bytes an entry with its index) grows with the rows squared: about
+/// 13,000 rows. 5 % below the int's range, the estimate's accuracy.
+inline constexpr double kMaxBufferBytes = 0.95 * 2147483647.0;
 
 /// The buffers build_mjcf sizes for a pallet (no friction or engine needed).
 BufferSizes scene_buffer_sizes(const PalletConfig& config, const SceneOptions& options);
 /// A scene of `config` with `options` that the engine cannot hold (its mjData above
-/// kMaxSimulationBytes), in words that say what to change at /items; empty when it fits.
-/// build_scene refuses such a scene before compiling it.
+/// kMaxSimulationBytes resident or kMaxBufferBytes allocated), in words that say what to change at
+/// /items; empty when it fits. build_scene refuses such a scene before compiling it.
 Diagnostics capacity_problems(const PalletConfig& config, const SceneOptions& options);
 
 /// Where things are in the compiled model.

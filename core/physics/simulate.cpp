@@ -19,7 +19,8 @@ Result<Simulator> Simulator::create(const Scene& scene) {
 }
 
 double Simulator::data_bytes() const {
-  return double(data_->nbuffer) + double(data_->nstack) * sizeof(mjtNum);
+  return double(data_->nbuffer) + double(data_->nstack) * sizeof(mjtNum) -
+         double(shared_data_bytes(data_.get()));
 }
 
 namespace {
@@ -110,7 +111,7 @@ StandFailure stand_failure(const Scene& scene, const mjData& d, const DetectorTh
 Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresholds& thresholds) {
   const mjModel* m = scene_->model.get();
   mjData* d = data_.get();
-  mj_resetData(m, d);
+  reset_data(m, d);
   std::optional<std::string> error = numerical_limits_problem(*scene_);
   const int check_every =
       std::max(1, static_cast<int>(std::lround(o.check_every_s / m->opt.timestep)));
@@ -216,7 +217,7 @@ Result<RestState> Simulator::settle(const SettleOptions& o, const DetectorThresh
                          (calm && at_rest && step - first_step >= hold_steps));
   }
   if (error) {
-    mj_resetData(m, d);
+    reset_data(m, d);
     if (is_cancelled(o.cancel))
       return Result<RestState>::failure("", std::string(kCancelledReason));
     return Result<RestState>::failure(
@@ -256,7 +257,7 @@ SimResult Simulator::run(const RestState& rest, const ConveyorProfile& profile,
     probe.before_step(*d);
     if (auto error = guarded([&] { pb::step(m, d); })) {
       probe.engine_error(*error);
-      mj_resetData(m, d);
+      reset_data(m, d);
       break;
     }
     if (!probe.after_step(*m, *d)) break;

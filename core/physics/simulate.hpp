@@ -35,8 +35,8 @@ class Simulator {
                 const SimOptions& options = {});
 
   const Scene& scene() const { return *scene_; }
-  /// What its mjData holds, bytes (MuJoCo 2.2 preallocates it whole: the main buffer, with its
-  /// njmax x njmax matrix, and the stack).
+  /// What its mjData holds resident, bytes (MuJoCo 2.2 preallocates it whole: the main buffer and
+  /// the stack; of the buffer's njmax x njmax matrix one block, engine.hpp: make_data).
   double data_bytes() const;
 
  private:

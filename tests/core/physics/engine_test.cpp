@@ -5,10 +5,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <mujoco/mjxmacro.h>
+#include <unistd.h>
 
 using namespace pb;
 
@@ -38,6 +42,14 @@ ModelPtr compiled(const std::string& xml) {
   auto model = compile_mjcf(xml);
   if (!model) qFatal("the test model does not compile: %s", model.diagnostics[0].message.c_str());
   return std::move(*model.value);
+}
+
+// The process's resident set, kB.
+long resident_kb() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
 DataPtr data_for(const mjModel* model) {
@@ -168,6 +180,62 @@ class EngineTest : public QObject {
     QCOMPARE(data->efc_AR[std::size_t(model->njmax) * std::size_t(model->njmax) - 1], 0.0);
     QCOMPARE(guarded([] { mju_malloc(std::numeric_limits<std::size_t>::max() - 1); }).value_or(""),
              std::string("MuJoCo error: Could not allocate memory"));
+  }
+
+  // MuJoCo 2.2.2's mjData holds its dual solvers' njmax x njmax matrix and index (12 njmax^2
+  // bytes) whatever the solver. Where the model solves primal, make_data maps that span onto one
+  // shared block: it is not resident, the model steps as before, and reset_data is mj_resetData
+  // outside the span, bit for bit.
+  void theDualSolversMatrixIsSharedWhereNothingReadsIt() {
+    ModelPtr model = compiled(box_on_plane("<size njmax=\"3000\"/>"));  // span 108 MB
+    const std::size_t nj = std::size_t(model->njmax);
+    const long before = resident_kb();
+    DataPtr shared = data_for(model.get());
+    const long grown_kb = resident_kb() - before;
+    QVERIFY2(shared_data_bytes(shared.get()) > 12 * nj * nj - 2 * kSharedSpanBytes,
+             qPrintable(QString::number(shared_data_bytes(shared.get()))));
+    QVERIFY2(grown_kb < 20 * 1024, qPrintable(QString("grew by %1 kB").arg(grown_kb)));
+    // One block, mapped again and again: what is written in it is 2 MB further on too.
+    const std::size_t middle = nj * nj / 2, period = kSharedSpanBytes / sizeof(mjtNum);
+    shared->efc_AR[middle] = 42.0;
+    QCOMPARE(shared->efc_AR[middle + period], 42.0);
+
+    // The same steps on data made without sharing (mj_makeData), then both reset.
+    mjData* plain = mj_makeData(model.get());
+    QCOMPARE(shared_data_bytes(plain), std::size_t{0});
+    for (mjData* d : {shared.get(), plain}) {
+      d->qvel[0] = 0.3;
+      for (int i = 0; i < 50; ++i) mj_step(model.get(), d);
+    }
+    QCOMPARE(shared->qpos[0], plain->qpos[0]);
+    QVERIFY(shared->qfrc_constraint[2] != 0.0);  // an array after the span, to be cleared
+    reset_data(model.get(), shared.get());
+    mj_resetData(model.get(), plain);
+    QCOMPARE(shared->time, 0.0);
+    int compared = 0;
+    {
+      const mjModel* m = model.get();
+      MJDATA_POINTERS_PREAMBLE(m)
+#define X(type, name, nr, nc)                                                                  \
+  if (std::strcmp(#name, "efc_AR") != 0 && std::strcmp(#name, "efc_AR_colind") != 0) {         \
+    ++compared;                                                                                \
+    QVERIFY2(                                                                                  \
+        std::memcmp(shared->name, plain->name, sizeof(type) * std::size_t(m->nr) * (nc)) == 0, \
+        #name);                                                                                \
+  }
+      MJDATA_POINTERS
+#undef X
+    }
+    QVERIFY(compared > 90);  // every array of mjData but the two (98 in 2.2.2)
+    mj_deleteData(plain);
+    shared.reset();
+
+    // A dual solver reads the matrix: its data holds it.
+    ModelPtr pgs = compiled(box_on_plane("<option solver=\"PGS\"/><size njmax=\"3000\"/>"));
+    DataPtr held = data_for(pgs.get());
+    QCOMPARE(shared_data_bytes(held.get()), std::size_t{0});
+    held->efc_AR[middle] = 42.0;
+    QCOMPARE(held->efc_AR[middle + period], 0.0);
   }
 
   // A stack overflow while stepping (mj_stackAlloc -> mju_error) unwinds to guarded().
