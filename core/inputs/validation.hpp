@@ -30,8 +30,8 @@ struct ValidationLimits {
   bool check_standing = true;  ///< off only to measure what the rule changes
   /// The most items a pallet may carry, checked before anything else (a 20,000-item document is
   /// refused at once, not checked pair by pair). 400: a EUR deck of the smallest catalog cartons
-  /// to the height cap is about 300; the engine's own limit (scene.hpp: kMaxSimulationBytes) is
-  /// usually lower and is named when a scene is built.
+  /// to the height cap is about 300; the engine's own limits (scene.hpp: kMaxSimulationBytes,
+  /// kMaxBufferBytes) are usually lower and are named when a scene is built.
   std::size_t max_items = 400;
   /// An item's weight over its box's volume, in kg/m^3: denser than lead (11,340) or lighter than
   /// 1 kg/m^3 (an empty carton is about 5) is a unit slip in weight_kg or dims_m, and a physics
