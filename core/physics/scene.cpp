@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <string_view>
 
 #include "core/base/text.hpp"
 #include "core/contract/json_io.hpp"
@@ -506,9 +507,23 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   scene.options = options;
   scene.friction = *friction.value;
   scene.mjcf = build_mjcf(config, scene.friction, options);
-  auto model = compile_mjcf(scene.mjcf);
+  // MuJoCo's compiler makes an mjData of the model to set its constants (mj_setConst), outside
+  // make_data, so with the scene's rows it would write the whole rows x rows matrix once: 272 MB
+  // on a 96-carton brick, half its prepare in page faults. No array of mjModel depends on njmax
+  // (mjxmacro.h), so the scene is compiled with one row and given its rows after.
+  std::string compiled = scene.mjcf;
+  int njmax = 0;
+  constexpr std::string_view kRows = " njmax=\"";
+  const std::size_t at = compiled.find(kRows);
+  const std::size_t end = at == std::string::npos ? at : compiled.find('"', at + kRows.size());
+  if (end != std::string::npos) {
+    njmax = std::stoi(compiled.substr(at + kRows.size(), end - at - kRows.size()));
+    compiled.replace(at, end + 1 - at, " njmax=\"1\"");
+  }
+  auto model = compile_mjcf(compiled);
   if (!model) return Result<Scene>::failure(std::move(model.diagnostics));
   scene.model = std::move(*model.value);
+  if (njmax > 0) scene.model->njmax = njmax;
 
   const mjModel* m = scene.model.get();
   SceneLayout& l = scene.layout;

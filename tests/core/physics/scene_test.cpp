@@ -705,9 +705,10 @@ class SceneTest : public QObject {
   }
 
   // What one mjData takes is estimated before anything is compiled (BufferSizes::data_bytes), to
-  // refuse a load the engine cannot hold: it counts what MuJoCo 2.2.2 allocates, rows x rows and
-  // rows x dofs arrays with their indices (a 24-carton brick of dairy cases, within 5 %), and the
-  // 96-carton brick of `bench scale` (452 MB) fits. Until session 20 the estimate counted efc_AR
+  // refuse a load the engine cannot hold: it counts what MuJoCo 2.2.2 allocates and keeps resident,
+  // the rows x dofs arrays with their indices and the stack, the rows x rows matrix shared by
+  // make_data (a 24-carton brick of dairy cases, within 5 %), and the 96-carton brick of `bench
+  // scale` (77 MB resident, a 258 MB buffer) fits. Until session 20 the estimate counted efc_AR
   // alone (259 MB of the 466 measured) and its 256 MB cap refused that brick once the stack held
   // Newton's Hessian.
   void theEstimateIsWhatTheEngineTakes() {
