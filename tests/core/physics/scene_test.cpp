@@ -728,6 +728,10 @@ class SceneTest : public QObject {
     QVERIFY(scene);
     auto sim = Simulator::create(*scene.value);
     QVERIFY(sim);
+    // Compiled with one row (MuJoCo's compiler makes an mjData of its own), given its rows after.
+    QCOMPARE(scene.value->model->njmax, scene_buffer_sizes(small, {}).njmax);
+    QVERIFY(scene.value->mjcf.find(" njmax=\"" + std::to_string(scene.value->model->njmax) +
+                                   "\"") != std::string::npos);
     const double estimate = scene_buffer_sizes(small, {}).data_bytes();
     const double actual = sim.value->data_bytes();
     qInfo("24-carton brick: estimate %.1f MB, MuJoCo %.1f MB", estimate / 1048576.0,
