@@ -90,6 +90,7 @@ struct ConstraintSolver::Impl {
   long uses = 0;
   int analyses = 0;
   int fallbacks = 0;
+  long factorizations = 0;
 
   // Per solve.
   std::vector<double> jaref, jv, ma, mv, grad, pgrad, search, grad_old, pgrad_old;
@@ -128,6 +129,9 @@ int ConstraintSolver::analyses() const {
 }
 int ConstraintSolver::fallbacks() const {
   return impl_->fallbacks;
+}
+long ConstraintSolver::factorizations() const {
+  return impl_->factorizations;
 }
 
 ConstraintSolver& thread_constraint_solver() {
@@ -572,6 +576,7 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
     if (p.analysed) {
       s.assemble(d, p);
       p.factor->factorize(p.hessian);
+      ++s.factorizations;
       factored = p.factor->info() == Eigen::Success;
     }
     if (!factored) ++s.fallbacks;

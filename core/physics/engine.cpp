@@ -50,16 +50,16 @@ int filtered_box_box(const mjModel* m, const mjData* d, mjContact* con, int g1, 
 }
 
 // MuJoCo 2.2.2's mjData holds, for its dual solvers (PGS, and the noslip pass), the njmax x njmax
-// matrix A R = J M^-1 J' + R and its column indices: 12 njmax^2 bytes, 89 % of a 96-carton
-// brick's mjData (374 of 420 MB). A primal solve (CG, Newton, ours) never reads or writes them
-// (engine_core_constraint.c: mj_projectConstraint returns unless mj_isDual); only mj_resetData's
-// memset and mj_copyData's memcpy touch them. So for a model that solves primal, make_data maps
-// the buffer's span of those two arrays onto one small block of shared memory, over and over: the
-// memset writes the same few pages again instead of faulting in hundreds of MB (first touch of
-// fresh memory cost 0.3-2.4 s per 272 MB on this VM, clear_page 20 % of a brick 96 envelope), and
-// the span's resident memory is kSharedSpanChunk. Each span is one anonymous memory file mapped
-// ceil(span / chunk) times; engine_free recognises the buffer and unmaps it.
-constexpr std::size_t kSharedSpanChunk = kSharedSpanBytes;
+// matrix A R = J M^-1 J' + R and its column indices: 12 njmax^2 bytes, most of a large load's
+// mjData (210 of the 258 MB buffer of `bench scale`'s 96-carton brick). A primal solve (CG, Newton,
+// ours) never reads or writes them (engine_core_constraint.c: mj_projectConstraint returns unless
+// mj_isDual); only mj_resetData's memset and mj_copyData's memcpy touch them. So for a model that
+// solves primal, make_data maps the buffer's span of those two arrays onto one small block of
+// shared memory, over and over: the memset writes the same few pages again instead of faulting in
+// hundreds of MB (first touch of fresh memory cost 0.3-2.4 s per 272 MB on this VM, clear_page 20 %
+// of a brick 96 envelope), and the span's resident memory is kSharedSpanBytes. Each span is one
+// anonymous memory file mapped ceil(span / kSharedSpanBytes) times; engine_free recognises the
+// buffer and unmaps it.
 
 struct DualMatrixSpan {
   std::size_t buffer_bytes = 0;    ///< the mjData buffer's size (mj_makeData asks for exactly this)
@@ -114,9 +114,9 @@ void* shared_span_alloc(const DualMatrixSpan& span) {
   char* lo = first + (span.begin + page - 1) / page * page;
   char* hi = first + span.end / page * page;
   const int fd = lo < hi ? memfd_create("pb-dual-matrix", MFD_CLOEXEC) : -1;
-  bool mapped = fd >= 0 && ftruncate(fd, off_t(kSharedSpanChunk)) == 0;
-  for (char* at = lo; mapped && at < hi; at += kSharedSpanChunk) {
-    const std::size_t n = std::min(kSharedSpanChunk, std::size_t(hi - at));
+  bool mapped = fd >= 0 && ftruncate(fd, off_t(kSharedSpanBytes)) == 0;
+  for (char* at = lo; mapped && at < hi; at += kSharedSpanBytes) {
+    const std::size_t n = std::min(kSharedSpanBytes, std::size_t(hi - at));
     mapped = mmap(at, n, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED, fd, 0) != MAP_FAILED;
   }
   if (fd >= 0) close(fd);  // the mappings keep the memory file
@@ -130,12 +130,12 @@ void* shared_span_alloc(const DualMatrixSpan& span) {
   return base;
 }
 
-// MuJoCo's allocator (mju_malloc), with one change: a block of tens of megabytes is asked for in
-// huge pages. MuJoCo 2.2.2 zeroes each mjData's whole buffer as it makes it (mj_resetData), and a
-// large load's buffer is hundreds of MB (its njmax x njmax efc_AR): a 96-carton column's 380 MB
-// took 93,000 page faults, about 1.2 s of system time, to zero in 4 KB pages, and 0.4-0.8 s in 2
-// MB ones (core/README.md, "Where a large load's prepare goes"). Alignment and padding as MuJoCo's
-// own (64 bytes); with the kernel's transparent huge pages off, madvise is a no-op.
+// MuJoCo's allocator (mju_malloc), with two changes: an mjData buffer make_data asked to share
+// (above), and a block of tens of megabytes asked for in huge pages (since the sharing, the buffer
+// of a PGS model's data, and a large stack). Before the sharing, a 96-carton column's 380 MB
+// buffer took 93,000 page faults, about 1.2 s of system time, to zero in 4 KB pages, and 0.4-0.8 s
+// in 2 MB ones (core/README.md, "Where a large load's prepare goes"). Alignment and padding as
+// MuJoCo's own (64 bytes); with the kernel's transparent huge pages off, madvise is a no-op.
 void* engine_malloc(std::size_t size) {
   if (t_share_span && size == t_share_span->buffer_bytes) {
     const DualMatrixSpan span = *t_share_span;
@@ -240,7 +240,7 @@ Result<DataPtr> make_data(const mjModel* model) {
   init_engine();
   // The dual solvers' matrix shared where the model never uses it and it is worth a mapping.
   const DualMatrixSpan span = dual_matrix_span(model);
-  const bool share = !solves_dual(model) && span.end - span.begin >= 4 * kSharedSpanChunk;
+  const bool share = !solves_dual(model) && span.end - span.begin >= 4 * kSharedSpanBytes;
   for (bool sharing : {share, false}) {
     if (sharing) t_share_span = span;
     mjData* raw = nullptr;
@@ -272,7 +272,7 @@ Result<DataPtr> make_data(const mjModel* model) {
 
 std::size_t shared_data_bytes(const mjData* data) {
   const std::optional<SharedBlock> b = shared_block(data->buffer);
-  return b ? b->hi - b->lo - std::min(b->hi - b->lo, kSharedSpanChunk) : 0;
+  return b ? b->hi - b->lo - std::min(b->hi - b->lo, kSharedSpanBytes) : 0;
 }
 
 void reset_data(const mjModel* model, mjData* data) {
