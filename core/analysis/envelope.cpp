@@ -1096,13 +1096,14 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   const int axes = int(order.size()) + (slips_both_ways ? 1 : 0);
   const int threads = s.axis_threads == 0 ? axes : std::min(s.axis_threads, axes);
   // Memory: an axis thread other than the calling one, and a probe run ahead, each need an mjData
-  // of their own for their model, and a large load's is hundreds of MB (MuJoCo 2.2's njmax x
-  // njmax matrix). Every mjData the searches hold counts against axis_memory_bytes, the models'
-  // own included (the calling thread searches on those): a thread takes an axis whose model it
-  // has, or whose mjData the budget still holds, and the calling thread takes any. So a 96-carton
-  // brick, whose whole model's mjData takes 466 MB and its third along the belt 37 MB, searches
-  // its curve on the calling thread while another thread searches along the belt, where it took
-  // one axis after another when every thread was counted at the largest model.
+  // of their own for their model, and a large load's is tens of MB resident (hundreds before
+  // make_data shared MuJoCo 2.2's njmax x njmax matrix). Every mjData the searches hold counts
+  // against axis_memory_bytes, the models' own included (the calling thread searches on those): a
+  // thread takes an axis whose model it has, or whose mjData the budget still holds, and the
+  // calling thread takes any. So a 96-carton brick, whose whole model's mjData took 466 MB (77 MB
+  // now) and its third along the belt 37 MB, searched its curve on the calling thread while
+  // another thread searched along the belt, where it took one axis after another when every
+  // thread was counted at the largest model.
   Cores cores;
   cores.total = resolved_threads(0);
   cores.spare_bytes =

@@ -56,11 +56,11 @@ struct SearchConfig {
   int axis_threads = 0;
   /// The memory the searches' simulations may take together, the models' own mjData included: an
   /// axis thread other than the calling one, and a probe run ahead, each need an mjData of their
-  /// own for their model, and a large load's is hundreds of MB (MuJoCo 2.2's njmax x njmax
-  /// matrix), so a thread takes an axis only where the budget holds its model's mjData, and the
-  /// calling thread, on the models' own, takes the rest, the largest model's axes first; a probe
-  /// run from the start (the stop's check) takes only what the threads leave (core/README.md,
-  /// "Axis threads within a memory budget").
+  /// own for their model, and a large load's is tens of MB resident (engine.hpp: make_data), so a
+  /// thread takes an axis only where the budget holds its model's mjData, and the calling thread,
+  /// on the models' own, takes the rest, the largest model's axes first; a probe run from the start
+  /// (the stop's check) takes only what the threads leave (core/README.md, "Axis threads within a
+  /// memory budget").
   double axis_memory_bytes = 640.0 * 1024 * 1024;
   /// Axes answered from others where the physics says they must agree (search_envelope): a
   /// mirror-symmetric load's stop from its start-up, the e-stop speed from the stop search, and

@@ -188,7 +188,8 @@ ScenePlan plan_scene(const PalletConfig& config, const ContactFriction& friction
   }
   p.welds = wrap.stiffness_n_per_m > 0.0 && !p.merged ? static_cast<int>(n) : 0;
   // Buffers from what the scene uses (MuJoCo 2.2 preallocates them, and its mjData holds an
-  // njmax x njmax matrix, so generous sizes cost memory quadratically): a resting face pair makes 4
+  // njmax x njmax matrix, so generous sizes cost quadratically: in the buffer MuJoCo counts in an
+  // int, though make_data keeps it from being resident): a resting face pair makes 4
   // contacts (8 at most, box-box), so a stacked pair is given 6; a side pair is apart at rest and
   // touches only as a load comes apart, so 1 each; a pyramidal condim-3 contact makes 4 rows
   // (elliptic 3), a weld 6. `buffer_scale` grows them after an overflow (Analyzer); an overflow
