@@ -90,7 +90,6 @@ struct ConstraintSolver::Impl {
   long uses = 0;
   int analyses = 0;
   int fallbacks = 0;
-  long factorizations = 0;
 
   // Per solve.
   std::vector<double> jaref, jv, ma, mv, grad, pgrad, search, grad_old, pgrad_old;
@@ -129,9 +128,6 @@ int ConstraintSolver::analyses() const {
 }
 int ConstraintSolver::fallbacks() const {
   return impl_->fallbacks;
-}
-long ConstraintSolver::factorizations() const {
-  return impl_->factorizations;
 }
 
 ConstraintSolver& thread_constraint_solver() {
@@ -576,7 +572,6 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
     if (p.analysed) {
       s.assemble(d, p);
       p.factor->factorize(p.hessian);
-      ++s.factorizations;
       factored = p.factor->info() == Eigen::Success;
     }
     if (!factored) ++s.fallbacks;

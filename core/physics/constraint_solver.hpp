@@ -49,8 +49,6 @@ class ConstraintSolver {
   /// factored (the solve then preconditions with the mass matrix, as MuJoCo's CG does).
   int analyses() const;
   int fallbacks() const;
-  /// Preconditioners built (a Hessian assembled and factored) since the thread began.
-  long factorizations() const;
 
  private:
   struct Impl;

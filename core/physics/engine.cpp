@@ -154,21 +154,23 @@ void* engine_malloc(std::size_t size) {
   return std::aligned_alloc(64, (size + 63) / 64 * 64);
 }
 
+// The shared block whose buffer starts at `base`, or end(); g_shared_mutex held.
+std::vector<SharedBlock>::iterator find_shared(const void* base) {
+  return std::find_if(g_shared_blocks.begin(), g_shared_blocks.end(),
+                      [&](const SharedBlock& b) { return b.base == base; });
+}
+
 std::optional<SharedBlock> shared_block(const void* buffer) {
   if (buffer == nullptr || g_shared_count.load() == 0) return std::nullopt;
   std::lock_guard lock(g_shared_mutex);
-  for (const SharedBlock& b : g_shared_blocks) {
-    if (b.base == buffer) return b;
-  }
-  return std::nullopt;
+  const auto it = find_shared(buffer);
+  return it == g_shared_blocks.end() ? std::nullopt : std::optional<SharedBlock>(*it);
 }
 
 void engine_free(void* block) {
   if (block != nullptr && g_shared_count.load() > 0) {
     std::lock_guard lock(g_shared_mutex);
-    auto it = std::find_if(g_shared_blocks.begin(), g_shared_blocks.end(),
-                           [&](const SharedBlock& b) { return b.base == block; });
-    if (it != g_shared_blocks.end()) {
+    if (const auto it = find_shared(block); it != g_shared_blocks.end()) {
       munmap(it->base, it->bytes);
       g_shared_blocks.erase(it);
       g_shared_count.fetch_sub(1);
@@ -238,36 +240,38 @@ Result<ModelPtr> compile_mjcf(std::string_view xml) {
 
 Result<DataPtr> make_data(const mjModel* model) {
   init_engine();
-  // The dual solvers' matrix shared where the model never uses it and it is worth a mapping.
-  const DualMatrixSpan span = dual_matrix_span(model);
-  const bool share = !solves_dual(model) && span.end - span.begin >= 4 * kSharedSpanBytes;
-  for (bool sharing : {share, false}) {
-    if (sharing) t_share_span = span;
+  auto make = [&](const std::optional<DualMatrixSpan>& share) -> Result<DataPtr> {
+    t_share_span = share;
     mjData* raw = nullptr;
     auto engine_error = guarded([&] { raw = mj_makeData(model); });
     t_share_span.reset();
     if (engine_error) return Result<DataPtr>::failure("", *engine_error);
     if (raw == nullptr) return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
-    DataPtr data(raw);
-    // The layout is checked, not assumed: had MuJoCo laid the buffer out otherwise, the shared
-    // pages would hold other arrays, and the data is made again without them.
-    const auto* buffer = static_cast<const char*>(data->buffer);
-    const bool where_computed =
-        reinterpret_cast<const char*>(data->efc_AR_colind) == buffer + span.begin &&
-        reinterpret_cast<const char*>(data->efc_AR + std::size_t(model->njmax) * model->njmax) ==
-            buffer + span.end &&
-        std::size_t(data->nbuffer) == span.buffer_bytes;
-    if (!sharing || where_computed) {
-      // mj_makeData's memset mapped the chunk in again and again; reset_data never touches the
-      // span, so its page-table entries go (the memory file keeps the chunk), and with them the
-      // span's count in the resident set.
-      if (const std::optional<SharedBlock> b = shared_block(data->buffer)) {
-        madvise(static_cast<char*>(b->base) + b->lo, b->hi - b->lo, MADV_DONTNEED);
-      }
-      return Result<DataPtr>{std::move(data), {}};
-    }
+    return Result<DataPtr>{DataPtr(raw), {}};
+  };
+  // The dual solvers' matrix shared where the model never uses it and it is worth a mapping.
+  const DualMatrixSpan span = dual_matrix_span(model);
+  if (solves_dual(model) || span.end - span.begin < 4 * kSharedSpanBytes) return make(std::nullopt);
+  auto data = make(span);
+  if (!data) return data;
+  mjData* d = data.value->get();
+  // The layout is checked, not assumed: had MuJoCo laid the buffer out otherwise, the shared
+  // pages would hold other arrays, and the data is made again without them.
+  const auto* buffer = static_cast<const char*>(d->buffer);
+  if (reinterpret_cast<const char*>(d->efc_AR_colind) != buffer + span.begin ||
+      reinterpret_cast<const char*>(d->efc_AR + std::size_t(model->njmax) * model->njmax) !=
+          buffer + span.end ||
+      std::size_t(d->nbuffer) != span.buffer_bytes) {
+    data.value->reset();
+    return make(std::nullopt);
   }
-  return Result<DataPtr>::failure("", "MuJoCo could not allocate its data");
+  // mj_makeData's memset mapped the chunk in again and again; reset_data never touches the span,
+  // so its page-table entries go (the memory file keeps the chunk), and with them the span's
+  // count in the resident set.
+  if (const std::optional<SharedBlock> b = shared_block(d->buffer)) {
+    madvise(static_cast<char*>(b->base) + b->lo, b->hi - b->lo, MADV_DONTNEED);
+  }
+  return data;
 }
 
 std::size_t shared_data_bytes(const mjData* data) {

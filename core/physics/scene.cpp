@@ -10,7 +10,6 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
-#include <string_view>
 
 #include "core/base/text.hpp"
 #include "core/contract/json_io.hpp"
@@ -225,7 +224,7 @@ double BufferSizes::buffer_bytes() const {
 
 double BufferSizes::data_bytes() const {
   // The buffer and the stack, less what make_data shares of the dual solvers' matrix (engine.hpp;
-  // it keeps one 2 MB block of it). A 96-carton brick (njmax 5,584, nv 584): 78 MB.
+  // it keeps one 2 MB block of it). `bench scale`'s 96-carton brick (njmax 4,188, nv 584): 77 MB.
   const double nj = njmax;
   const double matrix = 12.0 * nj * nj;
   const double shared = dual_solver ? 0.0 : std::max(0.0, matrix - double(kSharedSpanBytes));
@@ -511,20 +510,16 @@ Result<Scene> build_scene(const PalletConfig& config, const SceneOptions& option
   // MuJoCo's compiler makes an mjData of the model to set its constants (mj_setConst), outside
   // make_data, so with the scene's rows it would write the whole rows x rows matrix once: 272 MB
   // on a 96-carton brick, half its prepare in page faults. No array of mjModel depends on njmax
-  // (mjxmacro.h), so the scene is compiled with one row and given its rows after.
-  std::string compiled = scene.mjcf;
-  int njmax = 0;
-  constexpr std::string_view kRows = " njmax=\"";
-  const std::size_t at = compiled.find(kRows);
-  const std::size_t end = at == std::string::npos ? at : compiled.find('"', at + kRows.size());
-  if (end != std::string::npos) {
-    njmax = std::stoi(compiled.substr(at + kRows.size(), end - at - kRows.size()));
-    compiled.replace(at, end + 1 - at, " njmax=\"1\"");
-  }
-  auto model = compile_mjcf(compiled);
+  // (mjxmacro.h), so the scene is compiled with one row (its other sizes as they are) and given
+  // its rows after.
+  const BufferSizes sizes = scene_buffer_sizes(config, options);
+  SceneOptions one_row = options;
+  one_row.njmax = 1;
+  one_row.nstack = sizes.nstack;
+  auto model = compile_mjcf(build_mjcf(config, scene.friction, one_row));
   if (!model) return Result<Scene>::failure(std::move(model.diagnostics));
   scene.model = std::move(*model.value);
-  if (njmax > 0) scene.model->njmax = njmax;
+  scene.model->njmax = sizes.njmax;
 
   const mjModel* m = scene.model.get();
   SceneLayout& l = scene.layout;

@@ -122,7 +122,7 @@ struct BufferSizes {
 
 /// The most resident memory one simulation of a scene may take. The envelope's searches share
 /// SearchConfig::axis_memory_bytes (640 MB), which must hold the whole model's own mjData and the
-/// reduced ones beside it. A 96-carton brick of dairy cases takes 78 MB.
+/// reduced ones beside it. `bench scale`'s 96-carton brick of dairy cases takes 77 MB.
 inline constexpr double kMaxSimulationBytes = 512.0 * 1024 * 1024;
 /// The largest mjData buffer MuJoCo 2.2 can make: it counts the buffer's bytes in an int, and the
 /// njmax x njmax matrix (12 bytes an entry with its index) grows with the rows squared: about
