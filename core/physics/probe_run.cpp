@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/base/text.hpp"
@@ -321,7 +322,9 @@ bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_
     creep_v0_ = creep_v_;
     std::fill(creep_sums_.begin(), creep_sums_.end(), 0.0);
     creep_steps_ = 0;
+    creep_cone_use_ = 0.0;
   }
+  creep_cone_use_ = std::max(creep_cone_use_, max_cone_use(&m, &d));
   // The window's velocities summed by half: the first half's sums, then the second's.
   const std::size_t second = creep_steps_ < half ? 0 : 6;
   for (std::size_t b = 0; b < bodies; ++b) {
@@ -330,11 +333,12 @@ bool ProbeRun::creeping_steadily(const mjModel& m, const mjData& d, double belt_
   return ++creep_steps_ == 2 * half;
 }
 
-bool ProbeRun::creep_holds(double span) {
+double ProbeRun::creep_span_s() {
   // Each half's mean velocity; the change between them, over the half's length, is the window's
   // drift. The jump carries the second half's mean.
   const int half = std::max(1, creep_needed_ / 2);
   const double lag = half * dt_;
+  double span = std::numeric_limits<double>::infinity();
   for (std::size_t b = 0; 12 * b < creep_sums_.size(); ++b) {
     double drift[6];
     for (std::size_t c = 0; c < 6; ++c) {
@@ -343,11 +347,15 @@ bool ProbeRun::creep_holds(double span) {
       creep_v_[6 * b + c] = last;
       drift[c] = (last - first) / lag;
     }
-    // What the drift would add over the jump, which carries the velocity unchanged.
-    if (0.5 * norm3(drift) * span * span > kCreepDriftM) return false;
-    if (0.5 * norm3(drift + 3) * span * span > kCreepDriftRad) return false;
+    // The jump carries the velocity unchanged: the drift would add 0.5 |drift| span^2.
+    if (const double linear = norm3(drift); linear > 0.0) {
+      span = std::min(span, std::sqrt(2.0 * kCreepDriftM / linear));
+    }
+    if (const double angular = norm3(drift + 3); angular > 0.0) {
+      span = std::min(span, std::sqrt(2.0 * kCreepDriftRad / angular));
+    }
   }
-  return true;
+  return span;
 }
 
 double ProbeRun::creep_reach(double span) const {
@@ -604,8 +612,15 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
     // A creeping load jumps only where its creep cannot take it near a threshold meanwhile.
     skip_creep_ = !comoved;
     if (skip_creep_ && n > 0) {
+      // Cut where the window's drift would move a body too far, if a cut may be taken there
+      // (kCutJumpSettleS).
+      const int cut = static_cast<int>(std::min<double>(n, std::floor(creep_span_s() / dt_)));
+      const double in_phase = k * dt_ - (phase_ == 0 ? 0.0 : breakpoints_[phase_ - 1]);
+      const bool may_cut =
+          in_phase >= kCutJumpSettleS && cut >= creep_needed_ && creep_cone_use_ < kCutJumpConeUse;
+      if (cut < n) n = may_cut ? cut : 0;
       const double span = n * dt_;
-      if (!creep_holds(span) || r_.peak_ratio + creep_reach(span) >= kCreepJumpMaxRatio) {
+      if (n == 0 || r_.peak_ratio + creep_reach(span) >= kCreepJumpMaxRatio) {
         n = 0;
         creep_steps_ = 0;  // a new window, from the next step
       }

@@ -69,10 +69,25 @@ inline constexpr double kSteadyCreepMps = 0.005;
 /// it near a threshold is stepped, so a jump never decides a verdict.
 inline constexpr double kCreepJumpMaxRatio = 0.5;
 /// A jump carries each body's creep at its window's last mean velocity. The window's drift (the
-/// change between its halves' means) must not move a body by more than this over the jump (a load
-/// still settling into its creep after a demand's onset is stepped on).
+/// change between its halves' means) must not move a body by more than this over the jump.
 inline constexpr double kCreepDriftM = 5e-4;
 inline constexpr double kCreepDriftRad = 1e-3;
+/// Where the drift allows less than the rest of the phase, the jump is cut to what it allows
+/// (ProbeRun::creep_span_s, at least a window long), once the phase has lasted kCutJumpSettleS and
+/// where no pair used kCutJumpConeUse of its friction cone in the window (max_cone_use). A load
+/// that rattles keeps a drift window after window: a 96-carton brick's safe 0.135 g curve, whose
+/// items jitter by about 0.7 mm/s within a window while they creep at 2 mm/s, stepped its whole
+/// 2 s arc until session 35. A load settling into its creep after a demand's onset loses its
+/// drift a window or two later and then jumps to the phase's end (the curated loads' curves,
+/// 0.2-0.35 s into the phase): a cut jump before that carries the settling on, to be waited out
+/// again after it (tall-unwrapped-tower at 0.219 g: 952 steps jumped whole, 880 in two cut jumps
+/// from 0.28 s). A pallet near its belt's onset rattles its cone use across kConeSaturated, and
+/// each crossing adds to the slip that breaks it loose (kBreakLooseM), so a cut jump there skips
+/// exposure: session 31's cut jumps without the cone bound held four curve probes that fail
+/// stepped (their limits half a step higher; hold-out pallet h3105 at 0.361 g broke loose 0.3 s
+/// after such a window).
+inline constexpr double kCutJumpSettleS = 0.5;
+inline constexpr double kCutJumpConeUse = 0.9;
 
 /// Deciding a pallet slip before its threshold (SimOptions::project_pallet_slip): the pair's
 /// kinetic friction is taken this much stronger than mu_d g (a rocking load swings the belt's
@@ -135,9 +150,10 @@ class ProbeRun {
   // this step's velocities and says whether it has lasted kSteadyCreepWindowS.
   bool creeping_steadily(const mjModel& m, const mjData& d, double belt_vx, double belt_vy);
   // After a window (creeping_steadily): sets creep_v_ to the window's last half's mean velocities
-  // and says whether the window's drift (the change from its first half's means) would move a
-  // body by less than kCreepDriftM (and turn it less than kCreepDriftRad) over `span`.
-  bool creep_holds(double span);
+  // and returns the longest span (s) over which the window's drift (the change from its first
+  // half's means) moves no body by more than kCreepDriftM nor turns one by more than
+  // kCreepDriftRad.
+  double creep_span_s();
   // Whether the belt's command is affine in time from step k_ over the next n + 1 steps (a phase
   // in which the belt's frame accelerates, and turns, at a constant rate).
   bool command_affine(int n) const;
@@ -194,6 +210,7 @@ class ProbeRun {
   std::vector<double> creep_v0_, creep_v_;
   std::vector<double> creep_sums_;  ///< 12 a body: the window's first half's sums, its second's
   int creep_needed_ = 1, creep_steps_ = 0;
+  double creep_cone_use_ = 0.0;  ///< the most of its cone a pair used in the window (max_cone_use)
   bool skip_creep_ = false;
   // Deciding a pallet slip early: the slips of the steps in a row that qualified, the steps the
   // window needs, whether the belt runs steady after the last breakpoint, and the phase whose

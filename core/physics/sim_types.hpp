@@ -108,7 +108,8 @@ struct SimOptions {
   /// velocity relative to the belt stayed within kSteadyCreepTolMps (linear) and
   /// kSteadyCreepTolRadps (angular) of where it was at the window's start, the jump carries each
   /// body on at that relative velocity as well as with the belt (the creep's travel is kept, so
-  /// the detectors see it at the jump's end).
+  /// the detectors see it at the jump's end), as far as the window's drift allows
+  /// (kCutJumpSettleS).
   bool skip_creeping = true;
   /// With fail_fast: a pallet slip is decided once its slide can no longer stop short of the
   /// threshold (probe_run.cpp: ProbeRun::slip_certain; FailureEvent::projected). Only the belt's

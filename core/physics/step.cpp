@@ -112,6 +112,14 @@ bool any_pair_sliding(const mjModel* m, const mjData* d) {
   return std::any_of(d->userdata, d->userdata + n, [](mjtNum v) { return v != 0.0; });
 }
 
+double max_cone_use(const mjModel* m, const mjData* d) {
+  const int n = m->npair;
+  if (n == 0 || m->nuserdata < kFrictionStateSlots * n) return 0.0;
+  if (any_pair_sliding(m, d)) return 1.0;
+  const mjtNum* use = d->userdata + 2 * n;  // PairState::use (kUnknown, -1, without contacts)
+  return std::max(0.0, *std::max_element(use, use + n));
+}
+
 bool only_pair_sliding(const mjModel* m, const mjData* d, int pair) {
   const int n = m->npair;
   if (pair < 0 || pair >= n || m->nuserdata < kFrictionStateSlots * n) return false;

@@ -68,6 +68,10 @@ inline constexpr double kLevelContactNz = 0.7;
 /// True while a contact pair of the scene has broken loose (it slides at its kinetic coefficient
 /// until it sticks again); false for a model without the pairs' slots.
 bool any_pair_sliding(const mjModel* m, const mjData* d);
+/// The most of its friction cone a contact pair of the scene used in the last step (0..1, 1 for a
+/// pair that has broken loose; at kConeSaturated a pair slips towards breaking loose rather than
+/// creeps); 0 for a model without the pairs' slots.
+double max_cone_use(const mjModel* m, const mjData* d);
 /// True while contact pair `pair` (the scene's order: kBeltPalletPair first) has broken loose and
 /// no other pair has.
 bool only_pair_sliding(const mjModel* m, const mjData* d, int pair);

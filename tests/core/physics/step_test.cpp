@@ -12,6 +12,8 @@
 #include <cmath>
 #include <string>
 
+#include "core/physics/engine.hpp"
+#include "core/physics/probe_run.hpp"
 #include "core/physics/quasi_static.hpp"
 #include "core/physics/simulate.hpp"
 #include "tests/core/test_friction.hpp"
@@ -178,6 +180,44 @@ class StepTest : public QObject {
       QCOMPARE(r.outcome, Outcome::safe);
       QVERIFY(std::abs(pallet / expected - 1.0) < 0.03);
       QVERIFY(carton < 1e-3);
+    }
+  }
+
+  // Held at half its onset the carton's pair uses about half its cone (max_cone_use); at 0.995
+  // of it the solver holds its friction at the cone (kConeSaturated) while it has not broken
+  // loose: a creeping load's jump is not cut short while a pair is near its cone.
+  void aPairNearItsOnsetIsOnItsCone() {
+    Rig rig = settled(kCoulomb);
+    QVERIFY2(rig.error.empty(), rig.error.c_str());
+    const mjModel* m = rig.scene->model.get();
+    for (const double share : {0.5, 0.995}) {
+      const ConveyorProfile p = ramp(share * 0.4 * kG, 0.4, 0.4);
+      SimOptions o = test::every_step();
+      o.record_trace = false;
+      ProbeRun run(*rig.scene, rig.rest, p, o);
+      auto data = make_data(m);
+      mjData* d = data->get();
+      load_rest_state(rig.scene->layout, rig.rest, run.initial_speed(), *d);
+      int on_cone = 0, sliding = 0, steps = 0;
+      double most = 0.0;
+      while (!run.done()) {
+        run.before_step(*d);
+        step(m, d);
+        ++steps;
+        const double use = max_cone_use(m, d);
+        most = std::max(most, use);
+        on_cone += use >= kConeSaturated ? 1 : 0;
+        sliding += any_pair_sliding(m, d) ? 1 : 0;
+        if (!run.after_step(*m, *d)) break;
+      }
+      qInfo("at %.3f of its onset: at most %.3f of its cone, on it %d of %d steps, broken loose %d",
+            share, most, on_cone, steps, sliding);
+      QCOMPARE(sliding, 0);
+      if (share < 0.9) {
+        QVERIFY(most > 0.4 && most < 0.6);
+      } else {
+        QVERIFY(on_cone > steps / 2);
+      }
     }
   }
 };
