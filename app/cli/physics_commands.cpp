@@ -598,7 +598,8 @@ std::vector<Command> physics_commands() {
          {"accel-max", "A", "top of the start-up acceleration search, m/s^2 (default 5)"},
          {"probes", "",
           "list every probe of each search (axis, value, outcome, mode, failure_time_s, "
-          "sim_time_s, steps, peak_ratio: how near it came to failing, confirmation, wall_ms) and "
+          "sim_time_s, steps, peak_ratio: how near it came to failing, load_peak_ratio: as near "
+          "by the load's own detectors, confirmation, wall_ms) and "
           "speculative_sims (probes run ahead on spare cores and not needed); every file's search "
           "is then run, repeated pallets included"},
          {"fidelity", "LEVEL",

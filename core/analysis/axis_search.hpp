@@ -20,6 +20,7 @@ struct ProbeVerdict {
   /// A failure: how far into the probe's demand it came (0 at the demand's onset, 1 at its end;
   /// more once the load went on sliding after it). 1 where unknown.
   double failed_at = 1.0;
+  double load_peak_ratio = 0.0;  ///< SimResult::load_peak_ratio
 };
 
 /// A probe that failed before this share of its demand had passed is likely far above its limit

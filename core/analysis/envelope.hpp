@@ -116,10 +116,11 @@ struct Probe {
   FailureMode mode = FailureMode::no_failure;
   double failure_time_s = 0.0;
   double wall_ms = 0.0;
-  int steps = 0;              ///< steps simulated (profile steps reached minus those jumped)
-  double sim_time_s = 0.0;    ///< profile time reached
-  double peak_ratio = 0.0;    ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
-  bool confirmation = false;  ///< the run that confirms a limit (SearchConfig::confirm_limits)
+  int steps = 0;            ///< steps simulated (profile steps reached minus those jumped)
+  double sim_time_s = 0.0;  ///< profile time reached
+  double peak_ratio = 0.0;  ///< SimResult::peak_ratio: how near it came to failing (>= 1: failed)
+  double load_peak_ratio = 0.0;  ///< SimResult::load_peak_ratio: as near, its pallet's slip aside
+  bool confirmation = false;     ///< the run that confirms a limit (SearchConfig::confirm_limits)
   CurveTurn turn = CurveTurn::left;  ///< lateral: the way the curve turned
   bool item_tipped = false;          ///< a top_item_slide whose item tipped (detectors.hpp)
   bool projected = false;  ///< a pallet slip decided before its threshold (FailureEvent::projected)

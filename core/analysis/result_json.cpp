@@ -79,6 +79,7 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"sim_time_s", p.sim_time_s},
          {"steps", p.steps},
          {"peak_ratio", p.peak_ratio},
+         {"load_peak_ratio", p.load_peak_ratio},
          {"confirmation", p.confirmation},
          {"wall_ms", p.wall_ms}}));
     if (p.axis == Axis::lateral) probe["turn"] = to_string(p.turn);

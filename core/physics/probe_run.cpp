@@ -502,10 +502,17 @@ std::optional<FailureEvent> ProbeRun::detect(double t, const Trace::BeltState& b
                                              const Pose& pallet, DetectorReadings& readings) {
   auto event = detector_.update(t, belt, pallet, items_, &readings);
   const DetectorThresholds& th = detector_.thresholds();
-  r_.peak_ratio = std::max(
-      {r_.peak_ratio, readings.tilt_deg / th.tip_deg, readings.item_slide_m / th.item_slide_m,
-       readings.load_shift_m / th.load_shift_m, readings.pallet_slip_m / th.pallet_slip_m});
-  if (event) r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
+  r_.load_peak_ratio =
+      std::max({r_.load_peak_ratio, readings.tilt_deg / th.tip_deg,
+                readings.item_slide_m / th.item_slide_m, readings.load_shift_m / th.load_shift_m});
+  r_.peak_ratio =
+      std::max({r_.peak_ratio, r_.load_peak_ratio, readings.pallet_slip_m / th.pallet_slip_m});
+  if (event) {
+    r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
+    if (event->mode != FailureMode::pallet_slip) {
+      r_.load_peak_ratio = std::max(r_.load_peak_ratio, 1.0);
+    }
+  }
   return event;
 }
 

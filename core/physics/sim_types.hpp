@@ -147,6 +147,9 @@ struct SimResult {
   /// How near the run came to failing: the largest reading of any detector over its threshold
   /// (tilt over tip_deg, slide over item_slide_m, ...), the largest over the run; >= 1 once failed.
   double peak_ratio = 0.0;
+  /// As peak_ratio, over the load's own detectors (a tilt, an item's slide, the load's shift):
+  /// without the pallet's slip on its belt.
+  double load_peak_ratio = 0.0;
   int steps = 0;           ///< profile steps reached (stepped + skipped)
   int steps_skipped = 0;   ///< of `steps`, jumped analytically (skip_comoving)
   double skipped_s = 0.0;  ///< profile time jumped analytically

@@ -432,12 +432,13 @@ class PhysicsCliTest : public QObject {
     QSet<QString> axes;
     for (const QJsonValue& v : probes) {
       const QJsonObject p = v.toObject();
-      // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio, confirmation
-      // (false: --confirm-limits not given), wall_ms; the turn of a curve's probe; and
+      // axis, value, outcome, mode, failure_time_s, sim_time_s, steps, peak_ratio,
+      // load_peak_ratio, confirmation (false: --confirm-limits not given), wall_ms; the turn of a
+      // curve's probe; and
       // projected: true where a pallet slip was decided before its threshold
       const bool curve = str(p, "axis") == QStringLiteral("lateral");
       const bool projected = p.contains(QStringLiteral("projected"));
-      QCOMPARE(p.size(), (curve ? 11 : 10) + (projected ? 1 : 0));
+      QCOMPARE(p.size(), (curve ? 12 : 11) + (projected ? 1 : 0));
       if (projected) {
         QCOMPARE(p.value(QStringLiteral("projected")), QJsonValue(true));
         QCOMPARE(str(p, "mode"), QStringLiteral("pallet_slip"));
@@ -451,6 +452,9 @@ class PhysicsCliTest : public QObject {
       // How near it came to failing: past every threshold once failed, within them all if safe.
       QVERIFY(failed ? num(p, "peak_ratio") >= 1.0
                      : num(p, "peak_ratio") >= 0.0 && num(p, "peak_ratio") <= 1.0);
+      // The load's own detectors are among them: never nearer than all of them.
+      QVERIFY(num(p, "load_peak_ratio") >= 0.0 &&
+              num(p, "load_peak_ratio") <= num(p, "peak_ratio"));
       QVERIFY(failed || str(p, "outcome") == QStringLiteral("safe"));
       QCOMPARE(p.value(QStringLiteral("failure_time_s")).isNull(), !failed);
       QCOMPARE(str(p, "mode") == QStringLiteral("no_failure"), !failed);

@@ -13,6 +13,7 @@
 #include "core/analysis/analyzer.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "core/inputs/pallet_source.hpp"
+#include "core/inputs/random_pallet.hpp"
 #include "core/physics/scene.hpp"
 #include "core/physics/simulate.hpp"
 #include "core/physics/step.hpp"
@@ -790,11 +791,51 @@ class EnvelopeTest : public QObject {
     }
     QVERIFY(check != nullptr);
     QCOMPARE(check->outcome, Outcome::safe);
-    QVERIFY2(check->peak_ratio >= 0.5, qPrintable(QString::number(check->peak_ratio)));
+    // Near failing by its load's own detectors (the columns rock towards their tip).
+    QVERIFY2(check->load_peak_ratio >= 0.5, qPrintable(QString::number(check->load_peak_ratio)));
     QVERIFY(band != nullptr);
     QVERIFY2(env->accel.limit < band->value, describe(env->accel));
     QVERIFY2(env->decel.limit < onset, describe(env->decel));
     QVERIFY(env->accel.mode != FailureMode::no_failure);
+  }
+
+  // The band is for a load that fails and holds by turns while its pallet passes on nearly all it
+  // can; a pallet that came near slipping its allowance at the check is not that: its slip grows
+  // with the demand, and the search above the onset finds where it fails. Seven layers of four
+  // cartons, pinwheeled, frozen, on a CHEP pallet (the scanner's seed 4): its start-up check holds
+  // with its pallet having slipped about two thirds of its allowance (the tall load rocks the
+  // pallet's grip on its belt) while no carton came near a threshold, and the search goes on above
+  // the onset without probing the band. (Until session 36 any detector's peak sent the search
+  // into the band: three probes more on each axis of a 64-carton load of the same kind.)
+  void aCheckNearFailingByItsPalletsSlipAloneSkipsTheBand() {
+    RandomPalletOptions r;
+    r.seed = 4;
+    r.min_layers = r.max_layers = 7;
+    r.min_items_per_layer = r.max_items_per_layer = 4;
+    r.wrap = WrapType::none;
+    r.anomaly_rate = 0.0;
+    auto config = random_pallet(r, Catalog::builtin());
+    QVERIFY(config.ok());
+    Analyzer analyzer;
+    auto prepared = analyzer.prepare(*config.value);
+    QVERIFY(prepared.ok());
+    QCOMPARE((*prepared.value)->bounds.weakest_along().mechanism, Mechanism::pallet_slip);
+    const double onset = (*prepared.value)->bounds.weakest_along().accel_mps2;
+    auto env = analyzer.envelope(*config.value);
+    QVERIFY(env.ok());
+    const Probe* check = nullptr;
+    for (const Probe& p : env->probes) {
+      if (p.axis != Axis::accel) continue;
+      if (p.value == kConeSaturated * onset) check = &p;
+      QVERIFY2(p.value <= kConeSaturated * onset || p.value >= onset,
+               qPrintable(QString("a probe in the band: %1").arg(p.value)));
+    }
+    QVERIFY(check != nullptr);
+    QCOMPARE(check->outcome, Outcome::safe);
+    QVERIFY2(check->peak_ratio >= 0.5, qPrintable(QString::number(check->peak_ratio)));
+    QVERIFY2(check->load_peak_ratio < 0.5, qPrintable(QString::number(check->load_peak_ratio)));
+    QVERIFY2(env->accel.limit > onset, describe(env->accel));
+    QCOMPARE(env->accel.mode, FailureMode::pallet_slip);
   }
 
   // A limit of a load whose items can move whose own probe came within a tenth of failing is run
