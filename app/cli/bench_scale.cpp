@@ -21,6 +21,7 @@
 #include "core/base/text.hpp"
 #include "core/inputs/catalog.hpp"
 #include "core/inputs/layer_layout.hpp"
+#include "core/inputs/pallet_source.hpp"
 #include "core/physics/probe_run.hpp"
 
 namespace pb::cli {
@@ -149,7 +150,64 @@ Json analyse_in_child(const PalletConfig& config) {
 
 }  // namespace
 
+namespace {
+
+// The row of `config` (named `row`'s "pattern" and "size", or "pallet"), analysed `runs` times
+// each in a child of its own: the last run's figures with the median envelope and the largest
+// peak. Sets `exit_code` on an error.
+Json bench_row(Json row, const PalletConfig& config, std::int64_t runs, const std::string& label,
+               int& exit_code) {
+  std::vector<double> ms;
+  double rss = 0.0;
+  Json last;
+  for (int r = 0; r < runs; ++r) {
+    std::cerr << "bench scale: " << label << " run " << r + 1 << "/" << runs << "\n";
+    last = analyse_in_child(config);
+    if (last.contains("error")) break;
+    ms.push_back(last["envelope_ms"].get<double>());
+    rss = std::max(rss, last["peak_rss_mb"].get<double>());
+  }
+  row.update(last);
+  if (!last.contains("error")) {
+    std::sort(ms.begin(), ms.end());
+    row["envelope_ms"] = ms[ms.size() / 2];
+    row["peak_rss_mb"] = rss;
+    row["runs"] = runs;
+  } else {
+    exit_code = kExitFailure;
+  }
+  return row;
+}
+
+}  // namespace
+
 int run_bench_scale(const Args& args) {
+  const std::int64_t runs = args.integer("runs").value_or(1);
+  if (runs < 1 || runs > 100) throw UsageError{"bench: --runs must be between 1 and 100"};
+  Json rows = Json::array();
+  int exit_code = kExitOk;
+  // Pallets of the caller's (a random generator's, a warehouse's) instead of the sizes' recipe.
+  if (auto list = args.text("pallets")) {
+    for (const char* recipe_only : {"sizes", "patterns"}) {
+      if (args.flag(recipe_only)) {
+        throw UsageError{std::string("bench: --") + recipe_only +
+                         " and --pallets exclude each other"};
+      }
+    }
+    std::istringstream names(*list);
+    for (std::string name; std::getline(names, name, ',');) {
+      auto source = read_pallet_source(name);
+      if (!source) {
+        const Diagnostic& why = source.diagnostics.front();
+        rows.push_back(
+            {{"pallet", name},
+             {"error", why.pointer.empty() ? why.message : why.pointer + ": " + why.message}});
+        exit_code = kExitFailure;
+        continue;
+      }
+      rows.push_back(bench_row({{"pallet", name}}, source->pallet, runs, name, exit_code));
+    }
+  }
   const std::vector<int> sizes = int_list(args, "sizes", {24, 48, 72, 96}, kPerLayer, 400);
   for (int n : sizes) {
     if (n % kPerLayer != 0) {
@@ -170,11 +228,8 @@ int run_bench_scale(const Args& args) {
   } else {
     patterns = {LayerPattern::column, LayerPattern::brick};
   }
-  const std::int64_t runs = args.integer("runs").value_or(1);
-  if (runs < 1 || runs > 100) throw UsageError{"bench: --runs must be between 1 and 100"};
-  Json rows = Json::array();
-  int exit_code = kExitOk;
   for (LayerPattern pattern : patterns) {
+    if (args.text("pallets")) break;
     for (int n : sizes) {
       Json row = {{"pattern", to_string(pattern)}, {"size", n}};
       auto config = scale_pallet(pattern, n);
@@ -185,50 +240,40 @@ int run_bench_scale(const Args& args) {
         exit_code = kExitFailure;
         continue;
       }
-      std::vector<double> ms;
-      double rss = 0.0;
-      Json last;
-      for (int r = 0; r < runs; ++r) {
-        std::cerr << "bench scale: " << to_string(pattern) << " " << n << " run " << r + 1 << "/"
-                  << runs << "\n";
-        last = analyse_in_child(*config.value);
-        if (last.contains("error")) break;
-        ms.push_back(last["envelope_ms"].get<double>());
-        rss = std::max(rss, last["peak_rss_mb"].get<double>());
-      }
-      row.update(last);
-      if (!last.contains("error")) {
-        std::sort(ms.begin(), ms.end());
-        row["envelope_ms"] = ms[ms.size() / 2];
-        row["peak_rss_mb"] = rss;
-        row["runs"] = runs;
-      } else {
-        exit_code = kExitFailure;
-      }
-      rows.push_back(row);
+      rows.push_back(bench_row(row, *config.value, runs,
+                               std::string(to_string(pattern)) + " " + std::to_string(n),
+                               exit_code));
     }
   }
   if (args.flag("json")) {
     print_json(rows);
     return exit_code;
   }
-  std::printf("%-8s %5s %5s %8s %8s %9s %5s %7s %11s %11s %s\n", "pattern", "items", "dofs",
+  // A row names its pattern and size, or its pallet (the file's name without its folder and
+  // extension).
+  auto name = [](const Json& r) {
+    if (!r.contains("pallet")) {
+      return r["pattern"].get<std::string>() + " " + std::to_string(r["size"].get<int>());
+    }
+    std::string file = r["pallet"].get<std::string>();
+    file = file.substr(file.find_last_of('/') + 1);
+    return file.substr(0, file.rfind(".json"));
+  };
+  std::printf("%-20s %5s %5s %8s %8s %9s %5s %7s %11s %11s %s\n", "pallet", "items", "dofs",
               "contacts", "searched", "us/step", "sims", "steps", "envelope_ms", "peak_rss_mb",
               "verdict");
   for (const Json& r : rows) {
     if (r.contains("error")) {
-      std::printf("%-8s %5d error: %s\n", r["pattern"].get<std::string>().c_str(),
-                  r["size"].get<int>(), r["error"].get<std::string>().c_str());
+      std::printf("%-20s error: %s\n", name(r).c_str(), r["error"].get<std::string>().c_str());
       continue;
     }
     const std::string searched = std::to_string(r["searched_items_along"].get<int>()) + "/" +
                                  std::to_string(r["searched_items_across"].get<int>());
-    std::printf("%-8s %5d %5d %8d %8s %9.1f %5d %7ld %11.0f %11.0f %s\n",
-                r["pattern"].get<std::string>().c_str(), r["items"].get<int>(),
-                r["dofs"].get<int>(), r["contacts"].get<int>(), searched.c_str(),
-                r["us_per_step"].get<double>(), r["sims"].get<int>(), r["steps"].get<long>(),
-                r["envelope_ms"].get<double>(), r["peak_rss_mb"].get<double>(),
-                r["verdict"].get<std::string>().c_str());
+    std::printf("%-20s %5d %5d %8d %8s %9.1f %5d %7ld %11.0f %11.0f %s\n", name(r).c_str(),
+                r["items"].get<int>(), r["dofs"].get<int>(), r["contacts"].get<int>(),
+                searched.c_str(), r["us_per_step"].get<double>(), r["sims"].get<int>(),
+                r["steps"].get<long>(), r["envelope_ms"].get<double>(),
+                r["peak_rss_mb"].get<double>(), r["verdict"].get<std::string>().c_str());
   }
   return exit_code;
 }

@@ -495,7 +495,7 @@ int run_bench(const Args& args) {
     if (what == "scale") return run_bench_scale(args);
     throw UsageError{"bench: the sub-benchmarks are 'batch' and 'scale', not '" + what + "'"};
   }
-  for (const char* scale_only : {"sizes", "patterns"}) {
+  for (const char* scale_only : {"sizes", "patterns", "pallets"}) {
     if (args.flag(scale_only)) {
       throw UsageError{std::string("bench: --") + scale_only + " belongs to 'bench scale'"};
     }
@@ -626,14 +626,15 @@ std::vector<Command> physics_commands() {
       {{"bench",
         "bench [batch|scale] [--runs N] [--json] [--scenario SLUG] [--no-reference] [--sims N] "
         "[--threads 1,2,...] [--nstep 1,10] [--steps S] [--sizes 24,48,...] "
-        "[--patterns column,brick]",
+        "[--patterns column,brick] [--pallets FILE,...]",
         "Time every curated scenario (or one): the solve of its suggested profile and its "
         "envelope from cold caches (compile and settle included, and reported apart), each the "
         "median of N runs, and the reference system's search on the same pallet after each run "
         "(full model at 2 ms, plain bisection of speed at 1 m/s^2 and of acceleration towards 1 "
         "m/s: ref_ms, and ratio = ref_ms / envelope_ms). A table by default. 'bench scale' "
         "analyses unwrapped pallets of about --sizes cartons (12 a layer of 0.30 x 0.25 x 0.20 m "
-        "dairy cases; column and brick), each in a child process: items, degrees of freedom, "
+        "dairy cases; column and brick), or the --pallets given, each in a child process: items, "
+        "degrees of freedom, "
         "contacts at rest, the items its searches simulate along the belt / across it (one copy of "
         "each group of identical stacks), microseconds per step, simulations, the steps their "
         "probes took (jumps not counted: a cost another load on the machine does not change, for "
@@ -655,6 +656,9 @@ std::vector<Command> physics_commands() {
          {"no-reference", "", "skip the reference system's search"},
          {"sizes", "LIST", "scale: cartons per pallet, multiples of 12 (default 24,48,72,96)"},
          {"patterns", "LIST", "scale: layer patterns, column and/or brick (default both)"},
+         {"pallets", "LIST",
+          "scale: these pallets (files or curated slugs, comma-separated) instead of the sizes' "
+          "recipe; a row each, named by its file"},
          {"sims", "N", "batch: simulations (default 64)"},
          {"threads", "LIST", "batch: thread counts to time (default 1,2)"},
          {"nstep", "LIST", "batch: steps per call to time (default 1,10)"},

@@ -66,6 +66,29 @@ class BenchCliTest : public QObject {
     QCOMPARE(o.value("searched_items_across").toInt(), items);
   }
 
+  // bench scale --pallets: the caller's pallets (a file, a curated slug) instead of the recipe, a
+  // row each named by its argument; one that cannot be read is a row with its error, and the rest
+  // are still measured (exit 1).
+  void scalePallets() {
+    Run r =
+        cli({"bench", "scale", "--pallets", "tall-unwrapped-tower,no-such-pallet.json", "--json"});
+    QCOMPARE(r.exit_code, 1);
+    const QJsonArray rows = r.json().array();
+    QCOMPARE(rows.size(), 2);
+    const QJsonObject tower = rows[0].toObject();
+    QVERIFY2(!tower.contains("error"), qPrintable(tower.value("error").toString()));
+    QCOMPARE(tower.value("pallet").toString(), QString("tall-unwrapped-tower"));
+    QCOMPARE(tower.value("items").toInt(), 8);
+    QVERIFY(tower.value("sims").toInt() > 0 && num(tower, "envelope_ms") > 0.0);
+    const QJsonObject missing = rows[1].toObject();
+    QCOMPARE(missing.value("pallet").toString(), QString("no-such-pallet.json"));
+    QVERIFY2(missing.value("error").toString().startsWith("cannot open 'no-such-pallet.json'"),
+             qPrintable(missing.value("error").toString()));
+    Run both = cli({"bench", "scale", "--pallets", "tall-unwrapped-tower", "--sizes", "24"});
+    QCOMPARE(both.exit_code, 2);
+    QVERIFY(both.err.contains("--sizes and --pallets exclude each other"));
+  }
+
   void scaleBadInput() {
     Run size = cli({"bench", "scale", "--sizes", "25"});
     QCOMPARE(size.exit_code, 2);
