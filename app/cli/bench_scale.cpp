@@ -194,8 +194,15 @@ int run_bench_scale(const Args& args) {
                          " and --pallets exclude each other"};
       }
     }
-    std::istringstream names(*list);
-    for (std::string name; std::getline(names, name, ',');) {
+    std::vector<std::string> names;
+    std::istringstream text(*list);
+    for (std::string name; std::getline(text, name, ',');) {
+      if (!name.empty()) names.push_back(name);
+    }
+    if (names.empty()) {
+      throw UsageError{"bench: --pallets takes pallet files or curated slugs, comma-separated"};
+    }
+    for (const std::string& name : names) {
       auto source = read_pallet_source(name);
       if (!source) {
         const Diagnostic& why = source.diagnostics.front();

@@ -87,6 +87,9 @@ class BenchCliTest : public QObject {
     Run both = cli({"bench", "scale", "--pallets", "tall-unwrapped-tower", "--sizes", "24"});
     QCOMPARE(both.exit_code, 2);
     QVERIFY(both.err.contains("--sizes and --pallets exclude each other"));
+    Run none = cli({"bench", "scale", "--pallets", ","});
+    QCOMPARE(none.exit_code, 2);
+    QVERIFY(none.err.contains("--pallets takes pallet files or curated slugs"));
   }
 
   void scaleBadInput() {
