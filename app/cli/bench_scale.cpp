@@ -148,10 +148,6 @@ Json analyse_in_child(const PalletConfig& config) {
   return row;
 }
 
-}  // namespace
-
-namespace {
-
 // The row of `config` (named `row`'s "pattern" and "size", or "pallet"), analysed `runs` times
 // each in a child of its own: the last run's figures with the median envelope and the largest
 // peak. Sets `exit_code` on an error.
@@ -179,80 +175,9 @@ Json bench_row(Json row, const PalletConfig& config, std::int64_t runs, const st
   return row;
 }
 
-}  // namespace
-
-int run_bench_scale(const Args& args) {
-  const std::int64_t runs = args.integer("runs").value_or(1);
-  if (runs < 1 || runs > 100) throw UsageError{"bench: --runs must be between 1 and 100"};
-  Json rows = Json::array();
-  int exit_code = kExitOk;
-  // Pallets of the caller's (a random generator's, a warehouse's) instead of the sizes' recipe.
-  if (auto list = args.text("pallets")) {
-    for (const char* recipe_only : {"sizes", "patterns"}) {
-      if (args.flag(recipe_only)) {
-        throw UsageError{std::string("bench: --") + recipe_only +
-                         " and --pallets exclude each other"};
-      }
-    }
-    std::vector<std::string> names;
-    std::istringstream text(*list);
-    for (std::string name; std::getline(text, name, ',');) {
-      if (!name.empty()) names.push_back(name);
-    }
-    if (names.empty()) {
-      throw UsageError{"bench: --pallets takes pallet files or curated slugs, comma-separated"};
-    }
-    for (const std::string& name : names) {
-      auto source = read_pallet_source(name);
-      if (!source) {
-        const Diagnostic& why = source.diagnostics.front();
-        rows.push_back(
-            {{"pallet", name},
-             {"error", why.pointer.empty() ? why.message : why.pointer + ": " + why.message}});
-        exit_code = kExitFailure;
-        continue;
-      }
-      rows.push_back(bench_row({{"pallet", name}}, source->pallet, runs, name, exit_code));
-    }
-  }
-  const std::vector<int> sizes = int_list(args, "sizes", {24, 48, 72, 96}, kPerLayer, 400);
-  for (int n : sizes) {
-    if (n % kPerLayer != 0) {
-      throw UsageError{"bench: --sizes must be multiples of " + std::to_string(kPerLayer) +
-                       " (cartons a layer), not " + std::to_string(n)};
-    }
-  }
-  std::vector<LayerPattern> patterns;
-  if (auto text = args.text("patterns")) {
-    std::istringstream list(*text);
-    for (std::string name; std::getline(list, name, ',');) {
-      auto pattern = enum_from_string<LayerPattern>(name);
-      if (!pattern || (*pattern != LayerPattern::column && *pattern != LayerPattern::brick)) {
-        throw UsageError{"bench: --patterns takes column and brick, not '" + name + "'"};
-      }
-      patterns.push_back(*pattern);
-    }
-  } else {
-    patterns = {LayerPattern::column, LayerPattern::brick};
-  }
-  for (LayerPattern pattern : patterns) {
-    if (args.text("pallets")) break;
-    for (int n : sizes) {
-      Json row = {{"pattern", to_string(pattern)}, {"size", n}};
-      auto config = scale_pallet(pattern, n);
-      if (!config) {
-        row["error"] =
-            config.diagnostics.front().pointer + ": " + config.diagnostics.front().message;
-        rows.push_back(row);
-        exit_code = kExitFailure;
-        continue;
-      }
-      rows.push_back(bench_row(row, *config.value, runs,
-                               std::string(to_string(pattern)) + " " + std::to_string(n),
-                               exit_code));
-    }
-  }
-  if (args.flag("json")) {
+// Prints `rows` as the table (or, `json`, as a JSON array); returns `exit_code`.
+int print_rows(const Json& rows, bool json, int exit_code) {
+  if (json) {
     print_json(rows);
     return exit_code;
   }
@@ -283,6 +208,87 @@ int run_bench_scale(const Args& args) {
                 r["peak_rss_mb"].get<double>(), r["verdict"].get<std::string>().c_str());
   }
   return exit_code;
+}
+
+// `bench scale --pallets`: the rows of the caller's pallets (files or curated slugs, a
+// random generator's, a warehouse's) instead of the sizes' recipe.
+int bench_pallets(const std::string& list, const Args& args, std::int64_t runs) {
+  Json rows = Json::array();
+  int exit_code = kExitOk;
+  for (const char* recipe_only : {"sizes", "patterns"}) {
+    if (args.flag(recipe_only)) {
+      throw UsageError{std::string("bench: --") + recipe_only +
+                       " and --pallets exclude each other"};
+    }
+  }
+  std::vector<std::string> names;
+  std::istringstream text(list);
+  for (std::string name; std::getline(text, name, ',');) {
+    if (!name.empty()) names.push_back(name);
+  }
+  if (names.empty()) {
+    throw UsageError{"bench: --pallets takes pallet files or curated slugs, comma-separated"};
+  }
+  for (const std::string& name : names) {
+    auto source = read_pallet_source(name);
+    if (!source) {
+      const Diagnostic& why = source.diagnostics.front();
+      rows.push_back(
+          {{"pallet", name},
+           {"error", why.pointer.empty() ? why.message : why.pointer + ": " + why.message}});
+      exit_code = kExitFailure;
+      continue;
+    }
+    rows.push_back(bench_row({{"pallet", name}}, source->pallet, runs, name, exit_code));
+  }
+  return print_rows(rows, args.flag("json"), exit_code);
+}
+
+}  // namespace
+
+int run_bench_scale(const Args& args) {
+  const std::int64_t runs = args.integer("runs").value_or(1);
+  if (runs < 1 || runs > 100) throw UsageError{"bench: --runs must be between 1 and 100"};
+  if (auto list = args.text("pallets")) return bench_pallets(*list, args, runs);
+  Json rows = Json::array();
+  int exit_code = kExitOk;
+  const std::vector<int> sizes = int_list(args, "sizes", {24, 48, 72, 96}, kPerLayer, 400);
+  for (int n : sizes) {
+    if (n % kPerLayer != 0) {
+      throw UsageError{"bench: --sizes must be multiples of " + std::to_string(kPerLayer) +
+                       " (cartons a layer), not " + std::to_string(n)};
+    }
+  }
+  std::vector<LayerPattern> patterns;
+  if (auto text = args.text("patterns")) {
+    std::istringstream list(*text);
+    for (std::string name; std::getline(list, name, ',');) {
+      auto pattern = enum_from_string<LayerPattern>(name);
+      if (!pattern || (*pattern != LayerPattern::column && *pattern != LayerPattern::brick)) {
+        throw UsageError{"bench: --patterns takes column and brick, not '" + name + "'"};
+      }
+      patterns.push_back(*pattern);
+    }
+  } else {
+    patterns = {LayerPattern::column, LayerPattern::brick};
+  }
+  for (LayerPattern pattern : patterns) {
+    for (int n : sizes) {
+      Json row = {{"pattern", to_string(pattern)}, {"size", n}};
+      auto config = scale_pallet(pattern, n);
+      if (!config) {
+        row["error"] =
+            config.diagnostics.front().pointer + ": " + config.diagnostics.front().message;
+        rows.push_back(row);
+        exit_code = kExitFailure;
+        continue;
+      }
+      rows.push_back(bench_row(row, *config.value, runs,
+                               std::string(to_string(pattern)) + " " + std::to_string(n),
+                               exit_code));
+    }
+  }
+  return print_rows(rows, args.flag("json"), exit_code);
 }
 
 }  // namespace pb::cli
