@@ -17,6 +17,13 @@ double num(const QJsonObject& o, const char* key) {
   return o.value(QLatin1String(key)).toDouble();
 }
 
+// `args` refused as bad usage (exit 2), saying `says` on stderr.
+void refused(const QStringList& args, const char* says) {
+  const Run r = cli(args);
+  QCOMPARE(r.exit_code, 2);
+  QVERIFY2(r.err.contains(says), r.err.constData());
+}
+
 }  // namespace
 
 class BenchCliTest : public QObject {
@@ -84,24 +91,15 @@ class BenchCliTest : public QObject {
     QCOMPARE(missing.value("pallet").toString(), QString("no-such-pallet.json"));
     QVERIFY2(missing.value("error").toString().startsWith("cannot open 'no-such-pallet.json'"),
              qPrintable(missing.value("error").toString()));
-    Run both = cli({"bench", "scale", "--pallets", "tall-unwrapped-tower", "--sizes", "24"});
-    QCOMPARE(both.exit_code, 2);
-    QVERIFY(both.err.contains("--sizes and --pallets exclude each other"));
-    Run none = cli({"bench", "scale", "--pallets", ","});
-    QCOMPARE(none.exit_code, 2);
-    QVERIFY(none.err.contains("--pallets takes pallet files or curated slugs"));
+    refused({"bench", "scale", "--pallets", "tall-unwrapped-tower", "--sizes", "24"},
+            "--sizes and --pallets exclude each other");
+    refused({"bench", "scale", "--pallets", ","}, "--pallets takes pallet files or curated slugs");
   }
 
   void scaleBadInput() {
-    Run size = cli({"bench", "scale", "--sizes", "25"});
-    QCOMPARE(size.exit_code, 2);
-    QVERIFY(size.err.contains("multiples of 12"));
-    Run pattern = cli({"bench", "scale", "--patterns", "pinwheel"});
-    QCOMPARE(pattern.exit_code, 2);
-    QVERIFY(pattern.err.contains("--patterns takes column and brick"));
-    Run stray = cli({"bench", "--sizes", "24"});
-    QCOMPARE(stray.exit_code, 2);
-    QVERIFY(stray.err.contains("--sizes belongs to 'bench scale'"));
+    refused({"bench", "scale", "--sizes", "25"}, "multiples of 12");
+    refused({"bench", "scale", "--patterns", "pinwheel"}, "--patterns takes column and brick");
+    refused({"bench", "--sizes", "24"}, "--sizes belongs to 'bench scale'");
   }
 
   void batchJson() {
@@ -144,24 +142,13 @@ class BenchCliTest : public QObject {
   }
 
   void batchBadInput() {
-    Run nstep = cli({"bench", "batch", "--steps", "10", "--nstep", "3"});
-    QCOMPARE(nstep.exit_code, 2);
-    QVERIFY(nstep.err.contains("--steps (10) must be a multiple of every --nstep"));
-    Run threads = cli({"bench", "batch", "--threads", "0"});
-    QCOMPARE(threads.exit_code, 2);
-    QVERIFY(threads.err.contains("--threads takes whole numbers from 1 to 256"));
-    Run sims = cli({"bench", "batch", "--sims", "0"});
-    QCOMPARE(sims.exit_code, 2);
-    QVERIFY(sims.err.contains("--sims must be between 1 and 100000"));
-    Run scenario = cli({"bench", "batch", "--scenario", "nope"});
-    QCOMPARE(scenario.exit_code, 2);
-    QVERIFY(scenario.err.contains("no curated scenario 'nope'"));
-    Run word = cli({"bench", "sideways"});
-    QCOMPARE(word.exit_code, 2);
-    QVERIFY(word.err.contains("the sub-benchmarks are 'batch' and 'scale'"));
-    Run stray = cli({"bench", "--sims", "4"});
-    QCOMPARE(stray.exit_code, 2);
-    QVERIFY(stray.err.contains("--sims belongs to 'bench batch'"));
+    refused({"bench", "batch", "--steps", "10", "--nstep", "3"},
+            "--steps (10) must be a multiple of every --nstep");
+    refused({"bench", "batch", "--threads", "0"}, "--threads takes whole numbers from 1 to 256");
+    refused({"bench", "batch", "--sims", "0"}, "--sims must be between 1 and 100000");
+    refused({"bench", "batch", "--scenario", "nope"}, "no curated scenario 'nope'");
+    refused({"bench", "sideways"}, "the sub-benchmarks are 'batch' and 'scale'");
+    refused({"bench", "--sims", "4"}, "--sims belongs to 'bench batch'");
   }
 };
 
