@@ -517,16 +517,21 @@ void mark_item_tipped(AxisOutcome& out) {
   out.limit->item_tipped = above != nullptr && above->item_tipped;
 }
 
-// How near the probe at `x` came to failing (`load_only`: by the load's own detectors): the last
-// of `probes` there (confirmations aside), else as `known`; 0 where neither says.
-double peak_at(const std::vector<Probe>& probes, const std::map<double, ProbeVerdict>& known,
-               double x, bool load_only = false) {
+// How near the probe at `x` came to failing: by any detector, and by the load's own.
+struct Peaks {
+  double any = 0.0, load = 0.0;
+};
+
+// The peaks of the probe at `x`: the last of `probes` there (confirmations aside), else as
+// `known`; 0 where neither says.
+Peaks peaks_at(const std::vector<Probe>& probes, const std::map<double, ProbeVerdict>& known,
+               double x) {
   for (auto p = probes.rbegin(); p != probes.rend(); ++p) {
-    if (p->value == x && !p->confirmation) return load_only ? p->load_peak_ratio : p->peak_ratio;
+    if (p->value == x && !p->confirmation) return {p->peak_ratio, p->load_peak_ratio};
   }
   const auto it = known.find(x);
-  if (it == known.end()) return 0.0;
-  return load_only ? it->second.load_peak_ratio : it->second.peak_ratio;
+  if (it == known.end()) return {};
+  return {it->second.peak_ratio, it->second.load_peak_ratio};
 }
 
 // A probe of `t` as the verdict a later search of the axis knows it by: where the walk hastens
@@ -703,7 +708,8 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   // Every limit (SearchConfig::confirm_limits), or that of a load whose items can move (t.vouch)
   // whose own probe came near failing.
   auto confirmed = [&](double x) {
-    return s.confirm_limits || (t.vouch && peak_at(out.probes, known, x) >= s.confirm_from_peak);
+    return s.confirm_limits ||
+           (t.vouch && peaks_at(out.probes, known, x).any >= s.confirm_from_peak);
   };
   bool confirming = false;
   while (out.limit && !out.limit->at_floor && confirmed(out.limit->limit)) {
@@ -831,7 +837,7 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   if (c.limit && !c.limit->at_floor) {  // it holds there: the limit above stands, band permitting
     add_probes(a, c);
     const auto band =
-        probe_breakaway_band(t, peak_at(c.probes, t.known, check, true), above.limit, a, run);
+        probe_breakaway_band(t, peaks_at(c.probes, t.known, check).load, above.limit, a, run);
     if (!a.limit) return a;  // unstable, or an error: the axis has no limit
     if (!band) {
       a.limit->probes = above.probes + int(a.probes.size() - first);
@@ -881,7 +887,7 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   if (a.limit->at_floor) {
     failure = BandFailure{check, a.limit->mode};
   } else {
-    failure = probe_breakaway_band(t, peak_at(a.probes, t.known, check, true),
+    failure = probe_breakaway_band(t, peaks_at(a.probes, t.known, check).load,
                                    std::numeric_limits<double>::infinity(), a, run);
     if (!a.limit) return a;
   }
