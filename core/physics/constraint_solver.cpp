@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "core/physics/constraint_solver.hpp"
 
+#include "core/physics/block_cholesky.hpp"
+
 #include <Eigen/Dense>
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,8 +15,9 @@ namespace pb {
 
 namespace {
 
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-using Factor = Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>;
+// A block's rows of J, packed (collect_blocks).
+using RowBlock =
+    Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
 
 // The preconditioner is built again at the current constraint states once this many iterations
 // have passed since it was built at others, and whenever an iteration improves the cost by less
@@ -37,24 +37,34 @@ struct LinePoint {
   double alpha = 0.0, cost = 0.0, slope = 0.0, curvature = 0.0;
 };
 
-// A Hessian sparsity pattern (lower triangle) and its symbolic factorization.
+// A Hessian sparsity pattern (lower triangle) and its symbolic factorization, by bodies: each
+// body's degrees of freedom are one dense group of the factor (BlockCholesky).
 struct Structure {
   std::vector<std::vector<int>> rows;  // per column j: the rows i >= j it holds, sorted
-  SparseMatrix hessian;
-  std::unique_ptr<Factor> factor;  // (Eigen's factorizations cannot be moved)
+  BlockCholesky factor;
   bool analysed = false;
 
-  void analyse(int nv) {
-    std::vector<Eigen::Triplet<double, int>> entries;
-    for (int c = 0; c < nv; ++c) {
-      for (int r : rows[c]) entries.emplace_back(r, c, 0.0);
+  void analyse(const mjModel* m) {
+    std::vector<int> first, size, group_of(m->nv, -1);
+    for (int b = 0; b < m->nbody; ++b) {
+      if (m->body_dofnum[b] == 0) continue;
+      for (int i = 0; i < m->body_dofnum[b]; ++i) {
+        group_of[m->body_dofadr[b] + i] = static_cast<int>(first.size());
+      }
+      first.push_back(m->body_dofadr[b]);
+      size.push_back(m->body_dofnum[b]);
     }
-    hessian.resize(nv, nv);
-    hessian.setFromTriplets(entries.begin(), entries.end());
-    hessian.makeCompressed();
-    factor = std::make_unique<Factor>();
-    factor->analyzePattern(hessian);
-    analysed = factor->info() == Eigen::Success;
+    std::vector<std::vector<int>> couples(first.size());
+    for (int c = 0; c < m->nv; ++c) {
+      for (int r : rows[c]) {
+        if (group_of[r] != group_of[c]) couples[group_of[c]].push_back(group_of[r]);
+      }
+    }
+    for (auto& g : couples) {
+      std::sort(g.begin(), g.end());
+      g.erase(std::unique(g.begin(), g.end()), g.end());
+    }
+    analysed = factor.analyse(first, size, couples);
   }
 };
 
@@ -104,14 +114,17 @@ struct ConstraintSolver::Impl {
   };
   std::vector<Block> blocks;
   std::vector<int> cols, dest, mass_dest, scratch_cols, order, key;
-  std::vector<double> packed, block, hj;
+  std::vector<double> packed, block, hj, gathered;
   double gauss1 = 0.0, gauss2 = 0.0;  // Gauss's cost along the line: its slope and half curvature
 
   Pattern& pattern_for(const mjModel* m);
   void couplings_key();
   Structure& structure_for(const mjModel* m, Pattern& p);
   void collect_blocks(const mjModel* m, const mjData* d);
-  void map_dest(const mjModel* m, const Structure& p);
+  void mul_j(const double* v, double* out);
+  void mul_jt(int nv, const double* f, double* out);
+  double constraint_update(const mjModel* m, mjData* d, const double* jar, bool forces);
+  bool map_dest(const mjModel* m, const Structure& p);
   void assemble(const mjData* d, Structure& p);
   void precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
                     double* out);
@@ -212,7 +225,7 @@ Structure& ConstraintSolver::Impl::structure_for(const mjModel* m, Pattern& p) {
     std::sort(col.begin(), col.end());
     col.erase(std::unique(col.begin(), col.end()), col.end());
   }
-  c.structure.analyse(nv);
+  c.structure.analyse(m);
   ++analyses;
   return c.structure;
 }
@@ -276,12 +289,138 @@ void ConstraintSolver::Impl::collect_blocks(const mjModel* m, const mjData* d) {
   }
 }
 
+// out = J v, block by block: a block's rows share their columns, so v is gathered once for them
+// and each row is a dense product (MuJoCo 2.2.2's sparse product gathers per coefficient, in one
+// dependent chain of additions: about a sixth of a large brick's step).
+void ConstraintSolver::Impl::mul_j(const double* v, double* out) {
+  for (const Block& b : blocks) {
+    const int k = b.k, n = b.end - b.first;
+    gathered.resize(static_cast<size_t>(k));
+    const int* c = cols.data() + b.cols;
+    for (int x = 0; x < k; ++x) gathered[x] = v[c[x]];
+    const RowBlock rows(packed.data() + b.packed, n, k);
+    Eigen::Map<Eigen::VectorXd>(out + b.first, n).noalias() =
+        rows * Eigen::Map<const Eigen::VectorXd>(gathered.data(), k);
+  }
+}
+
+// out = J' f, block by block (mul_j's transpose).
+void ConstraintSolver::Impl::mul_jt(int nv, const double* f, double* out) {
+  std::fill(out, out + nv, 0.0);
+  for (const Block& b : blocks) {
+    const int k = b.k, n = b.end - b.first;
+    gathered.resize(static_cast<size_t>(k));
+    const RowBlock rows(packed.data() + b.packed, n, k);
+    Eigen::Map<Eigen::VectorXd>(gathered.data(), k).noalias() =
+        rows.transpose() * Eigen::Map<const Eigen::VectorXd>(f + b.first, n);
+    const int* c = cols.data() + b.cols;
+    for (int x = 0; x < k; ++x) out[c[x]] += gathered[x];
+  }
+}
+
+// MuJoCo's mj_constraintUpdate at jar = J qacc - aref: each row's state and force, and the
+// constraints' cost (returned); with `forces`, also each cone contact's Hessian (contact.H) and
+// qfrc_constraint = J' efc_force (mul_jt). The same zones and formulas as MuJoCo's (its
+// documentation's "Computation": the elliptic cone's top, middle and bottom zones, and its middle
+// zone's Hessian in the cone's own coordinates), here so that J' f is the blocked product.
+double ConstraintSolver::Impl::constraint_update(const mjModel* m, mjData* d, const double* jar,
+                                                 bool forces) {
+  const int ne = d->ne, nf = d->nf, nefc = d->nefc;
+  const double *D = d->efc_D, *R = d->efc_R, *floss = d->efc_frictionloss;
+  double* force = d->efc_force;
+  int* state = d->efc_state;
+  double cost = 0.0;
+  for (int i = 0; i < nefc; ++i) force[i] = -D[i] * jar[i];
+  for (int i = 0; i < ne; ++i) {
+    cost += 0.5 * D[i] * jar[i] * jar[i];
+    state[i] = mjCNSTRSTATE_QUADRATIC;
+  }
+  for (int i = ne; i < ne + nf; ++i) {
+    const double bound = R[i] * floss[i];
+    if (jar[i] <= -bound) {
+      cost += -0.5 * bound * floss[i] - floss[i] * jar[i];
+      force[i] = floss[i];
+      state[i] = mjCNSTRSTATE_LINEARNEG;
+    } else if (jar[i] >= bound) {
+      cost += -0.5 * bound * floss[i] + floss[i] * jar[i];
+      force[i] = -floss[i];
+      state[i] = mjCNSTRSTATE_LINEARPOS;
+    } else {
+      cost += 0.5 * D[i] * jar[i] * jar[i];
+      state[i] = mjCNSTRSTATE_QUADRATIC;
+    }
+  }
+  for (int i = ne + nf; i < nefc;) {
+    if (d->efc_type[i] != mjCNSTR_CONTACT_ELLIPTIC) {  // a non-negative row
+      if (jar[i] >= 0.0) {
+        force[i] = 0.0;
+        state[i] = mjCNSTRSTATE_SATISFIED;
+      } else {
+        cost += 0.5 * D[i] * jar[i] * jar[i];
+        state[i] = mjCNSTRSTATE_QUADRATIC;
+      }
+      ++i;
+      continue;
+    }
+    mjContact& con = d->contact[d->efc_id[i]];
+    const int dim = con.dim;
+    const double mu = con.mu;
+    // In the cone's own coordinates: U = (mu jar_n, friction_j jar_j).
+    std::array<double, 6> u{};
+    u[0] = jar[i] * mu;
+    double t2 = 0.0;
+    for (int j = 1; j < dim; ++j) {
+      u[j] = jar[i + j] * con.friction[j - 1];
+      t2 += u[j] * u[j];
+    }
+    const double n = u[0], t = std::sqrt(t2);
+    int zone;
+    if (n >= mu * t || (t <= 0.0 && n >= 0.0)) {
+      zone = mjCNSTRSTATE_SATISFIED;
+      std::fill(force + i, force + i + dim, 0.0);
+    } else if (mu * n + t <= 0.0 || (t <= 0.0 && n < 0.0)) {
+      zone = mjCNSTRSTATE_QUADRATIC;
+      for (int j = 0; j < dim; ++j) cost += 0.5 * D[i + j] * jar[i + j] * jar[i + j];
+    } else {
+      zone = mjCNSTRSTATE_CONE;
+      const double dm = D[i] / (mu * mu * (1.0 + mu * mu)), gap = n - mu * t;
+      cost += 0.5 * dm * gap * gap;
+      force[i] = -dm * gap * mu;
+      for (int j = 1; j < dim; ++j) force[i + j] = -force[i] / t * u[j] * con.friction[j - 1];
+      if (forces) {
+        // d2 cost / d jar2 = diag(s) Hu diag(s), s = (mu, friction): Hu's first row (1, -mu/t U'),
+        // its tangent block mu n / t^3 U U' + (mu^2 - mu n / t) I, scaled by dm.
+        double* h = con.H;
+        auto scale = [&](int x) { return x == 0 ? mu : con.friction[x - 1]; };
+        for (int x = 0; x < dim; ++x) {
+          for (int y = x; y < dim; ++y) {
+            double v;
+            if (x == 0) {
+              v = y == 0 ? 1.0 : -mu / t * u[y];
+            } else {
+              v = mu * n / (t * t * t) * u[x] * u[y] + (x == y ? mu * mu - mu * n / t : 0.0);
+            }
+            h[x * dim + y] = h[y * dim + x] = dm * scale(x) * scale(y) * v;
+          }
+        }
+      }
+    }
+    std::fill(state + i, state + i + dim, zone);
+    i += dim;
+  }
+  if (forces) mul_jt(m->nv, force, d->qfrc_constraint);
+  return cost;
+}
+
 // Where each block's lower triangle, and each mass matrix entry, lands in `p`'s values.
-void ConstraintSolver::Impl::map_dest(const mjModel* m, const Structure& p) {
-  const int* outer = p.hessian.outerIndexPtr();
-  const int* inner = p.hessian.innerIndexPtr();
-  auto find = [&](int r, int c) {  // (r >= c; the structure holds it)
-    return static_cast<int>(std::lower_bound(inner + outer[c], inner + outer[c + 1], r) - inner);
+// False if the structure does not hold one (it holds every entry its rows name; then the solve
+// preconditions with the mass matrix rather than write out of place).
+bool ConstraintSolver::Impl::map_dest(const mjModel* m, const Structure& p) {
+  bool held = true;
+  auto find = [&](int r, int c) {  // (r >= c)
+    const int at = p.factor.position(r, c);
+    held = held && at >= 0;
+    return at;
   };
   mass_dest.clear();
   for (int i = 0; i < m->nv; ++i) {
@@ -295,13 +434,14 @@ void ConstraintSolver::Impl::map_dest(const mjModel* m, const Structure& p) {
       for (int x = y; x < b.k; ++x) dest.push_back(find(c[x], c[y]));
     }
   }
+  return held;
 }
 
 // H = M + sum over quadratic rows of D J_i' J_i + sum over cone contacts of J_c' H_c J_c, at the
-// states (and cone Hessians) mj_constraintUpdate left in d, into the pattern's values.
+// states (and cone Hessians) constraint_update left in d, into the pattern's values.
 void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
-  double* values = p.hessian.valuePtr();
-  std::fill(values, values + p.hessian.nonZeros(), 0.0);
+  double* values = p.factor.values();
+  std::fill(values, values + p.factor.value_count(), 0.0);
   for (size_t i = 0, n = mass_dest.size(); i < n; ++i) values[mass_dest[i]] += d->qM[i];
   for (const Block& b : blocks) {
     const int k = b.k;
@@ -362,15 +502,12 @@ void ConstraintSolver::Impl::precondition(const mjModel* m, mjData* d, Structure
     mj_solveM(m, d, out, in, 1);
     return;
   }
-  Eigen::Map<const Eigen::VectorXd> b(in, m->nv);
-  Eigen::Map<Eigen::VectorXd> x(out, m->nv);
-  x = p.factor->solve(b);
+  p.factor.solve(in, out);
 }
 
-// mj_constraintUpdate at qacc (jaref current), plus Gauss's cost; the gradient of the total.
+// constraint_update at qacc (jaref current), plus Gauss's cost; the gradient of the total.
 double ConstraintSolver::Impl::update(const mjModel* m, mjData* d, const double* qacc) {
-  double cost = 0.0;
-  mj_constraintUpdate(m, d, jaref.data(), &cost, 1);
+  double cost = constraint_update(m, d, jaref.data(), true);
   for (int i = 0; i < m->nv; ++i) {
     const double r = ma[i] - d->qfrc_smooth[i];
     cost += 0.5 * r * (qacc[i] - d->qacc_smooth[i]);
@@ -488,7 +625,7 @@ double ConstraintSolver::Impl::line_search(const mjModel* m, mjData* d) {
   // MuJoCo's: the line's slope is small enough at this fraction of the tolerance, scaled.
   const double slope_tol = m->opt.tolerance * 0.01 * norm * m->stat.meaninertia * std::max(1, nv);
   mj_mulM(m, d, mv.data(), search.data());
-  mj_mulJacVec(m, d, jv.data(), search.data());
+  mul_j(search.data(), jv.data());
   prepare_line(m, d);
   const LinePoint p0 = evaluate(d, 0.0);
   if (p0.slope >= -slope_tol) return 0.0;  // not a descent (or converged along it)
@@ -533,21 +670,23 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
   s.quad.resize(3 * static_cast<size_t>(nefc));
   s.cone.resize(6 * static_cast<size_t>(nefc));
 
+  // J's rows in blocks of shared columns (J is the step's: fixed while it is solved).
+  s.collect_blocks(m, d);
+
   // efc_b = J qacc_smooth - aref; the start is the better of the warm start and qacc_smooth.
-  mj_mulJacVec(m, d, d->efc_b, d->qacc_smooth);
+  s.mul_j(d->qacc_smooth, d->efc_b);
   mju_subFrom(d->efc_b, d->efc_aref, nefc);
   mju_copy(d->qacc, d->qacc_smooth, nv);
   bool from_smooth = true;
   if (!mjDISABLED(mjDSBL_WARMSTART)) {
-    mj_mulJacVec(m, d, s.jaref.data(), d->qacc_warmstart);
+    s.mul_j(d->qacc_warmstart, s.jaref.data());
     mju_subFrom(s.jaref.data(), d->efc_aref, nefc);
-    double warm = 0.0, smooth = 0.0;
-    mj_constraintUpdate(m, d, s.jaref.data(), &warm, 0);
+    double warm = s.constraint_update(m, d, s.jaref.data(), false);
     mj_mulM(m, d, s.ma.data(), d->qacc_warmstart);
     for (int i = 0; i < nv; ++i) {
       warm += 0.5 * (s.ma[i] - d->qfrc_smooth[i]) * (d->qacc_warmstart[i] - d->qacc_smooth[i]);
     }
-    mj_constraintUpdate(m, d, d->efc_b, &smooth, 0);
+    const double smooth = s.constraint_update(m, d, d->efc_b, false);
     if (warm <= smooth) {
       mju_copy(d->qacc, d->qacc_warmstart, nv);
       from_smooth = false;
@@ -562,17 +701,15 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
 
   // The preconditioner: the Hessian at the constraint states of the point it is built at.
   Pattern& pattern = s.pattern_for(m);
-  s.collect_blocks(m, d);
   Structure& p = s.structure_for(m, pattern);
-  s.map_dest(m, p);
+  const bool mapped = p.analysed && s.map_dest(m, p);
   bool factored = false;
   std::vector<int>& factored_state = s.factored_state;
   auto refactor = [&] {
     factored = false;
-    if (p.analysed) {
+    if (mapped) {
       s.assemble(d, p);
-      p.factor->factorize(p.hessian);
-      factored = p.factor->info() == Eigen::Success;
+      factored = p.factor.factorize();
     }
     if (!factored) ++s.fallbacks;
     factored_state.assign(d->efc_state, d->efc_state + nefc);

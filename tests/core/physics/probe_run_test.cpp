@@ -323,10 +323,12 @@ class ProbeRunTest : public QObject {
   }
 
   // A load that rattles while it creeps keeps a drift in every window: bench scale's 96-carton
-  // brick (eight layers of SKU-FD-003 dairy cases) in a 0.12 g curve, below its limit. Its jumps
+  // brick (eight layers of SKU-FD-003 dairy cases) in a 0.13 g curve, below its limit. Its jumps
   // are cut where the drift would move an item 0.5 mm (kCutJumpSettleS): the first ends before
   // the arc does and another follows, and the run ends as full stepping's does (safe, the peak
-  // ratio within 0.005), its items at the first jump's end within 0.5 mm of full stepping's.
+  // ratio within 0.005), its items at the first jump's end within 0.5 mm of full stepping's. (At
+  // 0.12 g its items creep at 1.1 mm/s, on the co-moving skip's 1 mm/s: which of the two skips
+  // takes the arc turns on rounding, and the co-moving one carries no creep.)
   void aRattlingLoadJumpsAsFarAsItsDriftAllows() {
     ScannerInputs in;
     in.pallet_id = "rattling-brick";
@@ -345,7 +347,7 @@ class ProbeRunTest : public QObject {
     SimOptions jumping;  // the default, every step recorded
     SimOptions full = jumping;
     full.skip_comoving = false;
-    const ConveyorProfile curve = lateral_probe_profile(0.12, {}, {});
+    const ConveyorProfile curve = lateral_probe_profile(0.13, {}, {});
     const SimResult a = p.simulator->run(p.rest, curve, jumping);
     const SimResult b = p.simulator->run(p.rest, curve, full);
     QCOMPARE(a.outcome, Outcome::safe);
