@@ -30,6 +30,9 @@ using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 /// Box-box contacts deeper than this are MuJoCo 2.2.2's phantom contacts (real ones here are
 /// <= 3 mm deep, phantom ones 1 cm to 1 m) and are dropped.
 inline constexpr double kPhantomContactDepth = 0.01;
+/// So is one deeper than its two boxes overlap along its normal, by more than this (rounding):
+/// no real contact can be (phantom ones of a few millimetres come at a face's edge).
+inline constexpr double kPhantomContactSlack = 1e-4;
 
 /// Installs, once per process and before any other MuJoCo call of the core: the error handler
 /// (an engine error unwinds to the guarded call in the calling thread instead of exiting the

@@ -764,14 +764,18 @@ class EnvelopeTest : public QObject {
   // the reference configuration answers 3.31. The band is probed and the start-up searched below
   // its failure. The band is MuJoCo's pyramidal cone's (its loads chatter near their onsets); in
   // the shipped elliptic cone h3102 holds up to its onset (breakaway_study_test), so the pyramid
-  // is where the follow-up is exercised.
+  // is where the follow-up is exercised. Which timestep shows the case is chaotic: the case was
+  // found at 1 ms; since the box-box filter drops contacts deeper than their boxes overlap
+  // (session 37: h3102's columns had phantom ones), at 1 ms the check fails outright, at 0.9-1.1
+  // and 1.5 ms it holds far from failing, and at 1.2 ms it holds at 0.79 and the band's 0.995
+  // fails.
   void aCheckThatCameNearFailingProbesTheBandAboveIt() {
     auto source =
         read_pallet_source(PB_SOURCE_DIR "/docs/studies/unwrapped-holdout/pallets/h3102.json");
     QVERIFY(source.ok());
-    AnalyzerOptions pyramid;  // the model its case was found in (the full model then at 1 ms)
+    AnalyzerOptions pyramid;  // the model its case was found in, at 1.2 ms
     pyramid.scene = with_mujoco_solver(pyramid.scene);
-    pyramid.full_model_timestep_s = 0.001;
+    pyramid.full_model_timestep_s = 0.0012;
     Analyzer analyzer(pyramid);
     auto prepared = analyzer.prepare(source->pallet);
     QVERIFY(prepared.ok());
