@@ -13,13 +13,14 @@ bool BlockCholesky::analyse(const std::vector<int>& first, const std::vector<int
   const int n = static_cast<int>(first.size());
   groups_.clear();
   values_.clear();
+  unknowns_ = 0;  // (position() holds nothing until the analysis succeeds)
   if (size.size() != first.size() || couples.size() != first.size()) return false;
-  unknowns_ = 0;
+  int unknowns = 0;
   for (int g = 0; g < n; ++g) {
     if (size[g] <= 0 || first[g] < 0) return false;
-    unknowns_ = std::max(unknowns_, first[g] + size[g]);
+    unknowns = std::max(unknowns, first[g] + size[g]);
   }
-  group_of_.assign(unknowns_, -1);
+  group_of_.assign(unknowns, -1);
   for (int g = 0; g < n; ++g) {
     for (int u = first[g]; u < first[g] + size[g]; ++u) {
       if (group_of_[u] >= 0) return false;
@@ -89,6 +90,7 @@ bool BlockCholesky::analyse(const std::vector<int>& first, const std::vector<int
   }
   values_.assign(at, 0.0);
   padded_.assign(groups_.size() * width_, 0.0);
+  unknowns_ = unknowns;
   return true;
 }
 

@@ -16,8 +16,8 @@ class BlockCholesky {
   /// The structure of a symmetric matrix of `first.size()` groups of unknowns: group g is the
   /// `size[g]` consecutive unknowns from `first[g]` (together they number every unknown once);
   /// `couples[g]` lists the other groups its block row holds (either way round is enough). Orders
-  /// the groups (AMD) and lays out the factor's blocks. False for a group without unknowns or a
-  /// coupling out of range.
+  /// the groups (AMD) and lays out the factor's blocks. False for groups that do not number every
+  /// unknown once, a group without unknowns, or a coupling out of range.
   bool analyse(const std::vector<int>& first, const std::vector<int>& size,
                const std::vector<std::vector<int>>& couples);
 
@@ -26,7 +26,8 @@ class BlockCholesky {
   /// block is read). -1 when the structure holds no such entry.
   int position(int r, int c) const;
 
-  /// The values, set by position() before factorize() (which overwrites them with the factor).
+  /// The values: all zeroed, then the matrix's entries set at their position(), before each
+  /// factorize() (which overwrites them with the factor; the fill and the padding must be 0).
   double* values() { return values_.data(); }
   int value_count() const { return static_cast<int>(values_.size()); }
 

@@ -149,6 +149,7 @@ class BlockCholeskyTest : public QObject {
     QVERIFY(!f.analyse({0, 7}, {6, 6}, {{}, {}}));   // a gap
     QVERIFY(!f.analyse({0, 6}, {6, 0}, {{}, {}}));   // an empty group
     QVERIFY(!f.analyse({0, 6}, {6, 6}, {{2}, {}}));  // a coupling out of range
+    QCOMPARE(f.position(0, 0), -1);                  // and a failed analysis holds nothing
   }
 };
 
