@@ -185,7 +185,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
     cors(req, res);
     for (const auto& [k, v] : response.headers) res.set_header(k, v);
     res.status = response.status;
-    res.set_content(response.body, response.content_type.c_str());
+    if (!response.content_type.empty()) res.set_content(response.body, response.content_type);
   };
   // A body is read here, not by cpp-httplib: 0.11 holds a body to set_payload_max_length only
   // when it comes with a Content-Length, and reads a chunked one whole, however large (a 60 MB

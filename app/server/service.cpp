@@ -1132,7 +1132,8 @@ Response Service::dispatch(const Request& request, std::string& route) {
     for (const auto& m : allowed) list += (list.empty() ? "" : ", ") + m;
     if (request.method == "OPTIONS") {  // what the path answers (a browser's preflight asks)
       Response r;
-      r.status = 204;
+      r.status = 204;  // no content: no body, and no content type to claim one
+      r.content_type.clear();
       r.headers["Allow"] = r.headers["Access-Control-Allow-Methods"] = list + ", OPTIONS";
       return r;
     }

@@ -28,7 +28,7 @@ struct Request {
 struct Response {
   int status = 200;
   std::string body;
-  std::string content_type = "application/json";
+  std::string content_type = "application/json";  ///< "" for a response without a body (204)
   std::map<std::string, std::string> headers;
   std::string route;  ///< the route's pattern, for metrics ("" when no route matched)
 };

@@ -666,6 +666,9 @@ class ServiceRoutesTest : public QObject {
     auto preflight = client_->Options("/safety/analyze", allowed);
     QCOMPARE(preflight->status, 204);
     QCOMPARE(preflight->get_header_value("Access-Control-Allow-Methods"), "POST, OPTIONS");
+    // No content: no body, and no content type claiming JSON for it.
+    QVERIFY(preflight->body.empty());
+    QVERIFY(!preflight->has_header("Content-Type"));
     QCOMPARE(preflight->get_header_value("Access-Control-Allow-Origin"), "https://boothe.io");
     QCOMPARE(client_->Options("/scenarios/stable-dairy-slab", allowed)
                  ->get_header_value("Access-Control-Allow-Methods"),
