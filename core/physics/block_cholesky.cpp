@@ -114,6 +114,39 @@ int BlockCholesky::position(int r, int c) const {
   return at + (r - groups_[i].first) + (c - groups_[j].first) * width_;
 }
 
+bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) const {
+  bool held = true;
+  int last_i = -1, last_j = -1, at = -1;  // the last pair of groups, and its block
+  for (int y = 0; y < k; ++y) {
+    for (int x = y; x < k; ++x) {
+      int r = cols[x], c = cols[y];
+      // As position(), with the block's search done once per pair of groups.
+      int i = -1, j = -1;
+      if (r >= 0 && c >= 0 && r < unknowns_ && c < unknowns_) {
+        i = rank_[group_of_[r]];
+        j = rank_[group_of_[c]];
+      }
+      if (i < 0 || (i == j && r < c)) {
+        out.push_back(-1);
+        held = false;
+        continue;
+      }
+      if (i < j) {
+        std::swap(i, j);
+        std::swap(r, c);
+      }
+      if (i != last_i || j != last_j) {
+        last_i = i;
+        last_j = j;
+        at = i == j ? groups_[j].diagonal : block(i, j);
+      }
+      out.push_back(at < 0 ? -1 : at + (r - groups_[i].first) + (c - groups_[j].first) * width_);
+      held = held && at >= 0;
+    }
+  }
+  return held;
+}
+
 // The factorization and the solve, every block S x S: kWidth unrolled, or Eigen::Dynamic (a
 // group wider than kWidth; then `w` wide).
 template <int S>

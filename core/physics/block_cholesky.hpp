@@ -25,6 +25,11 @@ class BlockCholesky {
   /// groups, either way round; within one group, r >= c (only the lower triangle of a group's own
   /// block is read). -1 when the structure holds no such entry.
   int position(int r, int c) const;
+  /// position() of every entry (cols[x], cols[y]), x >= y, of the dense block over the `k`
+  /// unknowns `cols` (ascending), appended to `out` column by column (y, then x from y): one
+  /// search per pair of groups instead of one per entry (a step maps every contact block's).
+  /// False when the structure does not hold some entry (its position is -1).
+  bool positions(const int* cols, int k, std::vector<int>& out) const;
 
   /// The values: all zeroed, then the matrix's entries set at their position(), before each
   /// factorize() (which overwrites them with the factor; the fill and the padding must be 0).

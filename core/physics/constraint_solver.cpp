@@ -18,6 +18,11 @@ namespace {
 // A block's rows of J, packed (collect_blocks).
 using RowBlock =
     Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+// The commonest block: two free bodies' columns (every carton pair's contacts), assembled in
+// fixed-size products (add_pair_block).
+constexpr int kPairWidth = 12;
+using PairRows =
+    Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, kPairWidth, Eigen::RowMajor>>;
 
 // The preconditioner is built again at the current constraint states once this many iterations
 // have passed since it was built at others, and whenever an iteration improves the cost by less
@@ -103,8 +108,11 @@ struct ConstraintSolver::Impl {
 
   // Per solve.
   std::vector<double> jaref, jv, ma, mv, grad, pgrad, search, grad_old, pgrad_old;
-  std::vector<double> quad;         // per constraint row: 0.5 D x0^2, D x0 v, 0.5 D v^2
-  std::vector<double> cone;         // per elliptic contact's first row: U0, V0, UU, UV, VV, Dm
+  std::vector<double> quad;  // per constraint row: 0.5 D x0^2, D x0 v, 0.5 D v^2
+  // Per elliptic contact's first row: U0, V0, UU, UV, VV, Dm, and its mu and dim (so that the
+  // line search reads no mjContact).
+  static constexpr int kConeSlots = 8;
+  std::vector<double> cone;
   std::vector<int> factored_state;  // efc_state where the preconditioner was built
   // The solve's constraint blocks (collect_blocks, map_dest).
   struct Block {
@@ -126,6 +134,8 @@ struct ConstraintSolver::Impl {
   double constraint_update(const mjModel* m, mjData* d, const double* jar, bool forces);
   bool map_dest(const mjModel* m, const Structure& p);
   void assemble(const mjData* d, Structure& p);
+  void add_pair_block(const mjData* d, const Block& b, const double* jrow);
+  Eigen::Matrix<double, kPairWidth, kPairWidth> pair;  // add_pair_block's
   void precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
                     double* out);
   double update(const mjModel* m, mjData* d, const double* qacc);
@@ -429,10 +439,7 @@ bool ConstraintSolver::Impl::map_dest(const mjModel* m, const Structure& p) {
   dest.clear();
   for (Block& b : blocks) {
     b.dest = static_cast<int>(dest.size());
-    const int* c = cols.data() + b.cols;
-    for (int y = 0; y < b.k; ++y) {
-      for (int x = y; x < b.k; ++x) dest.push_back(find(c[x], c[y]));
-    }
+    held = p.factor.positions(cols.data() + b.cols, b.k, dest) && held;
   }
   return held;
 }
@@ -445,8 +452,16 @@ void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
   for (size_t i = 0, n = mass_dest.size(); i < n; ++i) values[mass_dest[i]] += d->qM[i];
   for (const Block& b : blocks) {
     const int k = b.k;
-    block.assign(static_cast<size_t>(k) * k, 0.0);  // lower triangle, column by column
     const double* jrow = packed.data() + b.packed;
+    const int* to = dest.data() + b.dest;
+    if (k == kPairWidth) {  // two free bodies: fixed-size products
+      add_pair_block(d, b, jrow);
+      for (int c = 0; c < k; ++c) {
+        for (int r = c; r < k; ++r) values[*to++] += pair(r, c);
+      }
+      continue;
+    }
+    block.assign(static_cast<size_t>(k) * k, 0.0);  // lower triangle, column by column
     for (int row = b.first; row < b.end;) {
       const bool elliptic = d->efc_type[row] == mjCNSTR_CONTACT_ELLIPTIC;
       const int dim = elliptic ? d->contact[d->efc_id[row]].dim : 1;
@@ -487,11 +502,41 @@ void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
       jrow += dim * k;
       row += dim;
     }
-    const int* to = dest.data() + b.dest;
     for (int c = 0; c < k; ++c) {
       const double* col = block.data() + c * k;
       for (int r = c; r < k; ++r) values[*to++] += col[r];
     }
+  }
+}
+
+// pair = J' W J over a block of two free bodies' columns, W each contact's weights: its cone
+// Hessian in the cone's middle zone, D on its quadratic rows, none where it is satisfied. Row by
+// row, J_x' (W J)_x, as assemble's generic path sums them (the same roundings, bit for bit), in
+// fixed-size products the compiler unrolls and vectorises.
+void ConstraintSolver::Impl::add_pair_block(const mjData* d, const Block& b, const double* jrow) {
+  using Row = Eigen::Matrix<double, 1, kPairWidth>;
+  pair.setZero();
+  for (int row = b.first; row < b.end;) {
+    const bool elliptic = d->efc_type[row] == mjCNSTR_CONTACT_ELLIPTIC;
+    const int dim = elliptic ? d->contact[d->efc_id[row]].dim : 1;
+    const int state = d->efc_state[row];
+    if (elliptic && state == mjCNSTRSTATE_CONE) {
+      const PairRows j(jrow, dim, kPairWidth);
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+          h(d->contact[d->efc_id[row]].H, dim, dim);
+      for (int x = 0; x < dim; ++x) {
+        Row row_x = h(x, 0) * j.row(0);  // (H J)_x, summed over y in order
+        for (int y = 1; y < dim; ++y) row_x += h(x, y) * j.row(y);
+        pair.noalias() += j.row(x).transpose().lazyProduct(row_x);
+      }
+    } else if (state == mjCNSTRSTATE_QUADRATIC) {
+      for (int x = 0; x < dim; ++x) {
+        const Eigen::Map<const Row> j(jrow + x * kPairWidth);
+        pair.noalias() += j.transpose().lazyProduct(d->efc_D[row + x] * j);
+      }
+    }
+    jrow += dim * kPairWidth;
+    row += dim;
   }
 }
 
@@ -537,7 +582,7 @@ void ConstraintSolver::Impl::prepare_line(const mjModel* m, const mjData* d) {
       continue;
     }
     const mjContact& c = d->contact[d->efc_id[i]];
-    double* e = &cone[6 * i];
+    double* e = &cone[kConeSlots * i];
     e[0] = jaref[i] * c.mu;
     e[1] = jv[i] * c.mu;
     e[2] = e[3] = e[4] = 0.0;
@@ -548,6 +593,8 @@ void ConstraintSolver::Impl::prepare_line(const mjModel* m, const mjData* d) {
       e[4] += v * v;
     }
     e[5] = d->efc_D[i] / (c.mu * c.mu * (1.0 + c.mu * c.mu));
+    e[6] = c.mu;
+    e[7] = c.dim;
     i += c.dim;
   }
 }
@@ -581,30 +628,31 @@ LinePoint ConstraintSolver::Impl::evaluate(const mjData* d, double alpha) const 
       ++i;
       continue;
     }
-    const mjContact& c = d->contact[d->efc_id[i]];
-    const double* e = &cone[6 * i];
+    const double* e = &cone[kConeSlots * i];
+    const double mu = e[6];
+    const int dim = static_cast<int>(e[7]);
     const double n = e[0] + alpha * e[1];
     const double t2 = e[2] + alpha * (2.0 * e[3] + alpha * e[4]);
     if (t2 <= 0.0) {
       if (n < 0.0) {
-        for (int j = 0; j < c.dim; ++j) add(i + j);
+        for (int j = 0; j < dim; ++j) add(i + j);
       }
     } else {
       const double t = std::sqrt(t2);
-      if (n >= c.mu * t) {
+      if (n >= mu * t) {
         // top zone: no force
-      } else if (c.mu * n + t <= 0.0) {
-        for (int j = 0; j < c.dim; ++j) add(i + j);
+      } else if (mu * n + t <= 0.0) {
+        for (int j = 0; j < dim; ++j) add(i + j);
       } else {
         const double t1 = (e[3] + alpha * e[4]) / t;
         const double tt = e[4] / t - (e[3] + alpha * e[4]) * t1 / t2;
-        const double gap = n - c.mu * t, gap1 = e[1] - c.mu * t1;
+        const double gap = n - mu * t, gap1 = e[1] - mu * t1;
         cost += 0.5 * e[5] * gap * gap;
         slope += e[5] * gap * gap1;
-        curvature += e[5] * (gap1 * gap1 - gap * c.mu * tt);
+        curvature += e[5] * (gap1 * gap1 - gap * mu * tt);
       }
     }
-    i += c.dim;
+    i += dim;
   }
   LinePoint p;
   p.alpha = alpha;
@@ -668,7 +716,7 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
   s.jaref.resize(nefc);
   s.jv.resize(nefc);
   s.quad.resize(3 * static_cast<size_t>(nefc));
-  s.cone.resize(6 * static_cast<size_t>(nefc));
+  s.cone.resize(Impl::kConeSlots * static_cast<size_t>(nefc));
 
   // J's rows in blocks of shared columns (J is the step's: fixed while it is solved).
   s.collect_blocks(m, d);

@@ -134,6 +134,44 @@ class BlockCholeskyTest : public QObject {
     QCOMPARE(f.position(18, 0), -1);
   }
 
+  // A dense block's positions, found once per pair of groups, are position()'s entry by entry:
+  // blocks over one group, over coupled groups whichever the elimination order puts first (a hub
+  // with a ring's fill, a belt's two slides, groups of 7), with and without entries the structure
+  // lacks.
+  void placesADenseBlockAsEntryByEntry() {
+    for (const bool ring : {false, true}) {
+      const Problem p = make({2, 6, 6, 7, 6, 6, 6}, ring, true, 3);
+      BlockCholesky f;
+      QVERIFY(f.analyse(p.first, p.size, p.couples));
+      const std::vector<std::vector<int>> blocks = {
+          {2, 3, 4, 5, 6, 7},                                  // one group
+          {0, 1, 2, 3, 4, 5, 6, 7},                            // the slides and a body
+          {8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20},  // 6 + 7 wide
+          {0, 1, 27, 28, 29, 30, 31, 32},                      // two groups the hub couples
+          {1, 3, 14, 20, 33, 37},                              // some columns of several
+          {14, 15, 33, 34},                                    // two groups nothing couples
+          {7, 5, 3},                                           // not ascending
+          {3, 4, 1000},                                        // out of range
+      };
+      for (const auto& cols : blocks) {
+        std::vector<int> out{42};  // appended to
+        const bool held = f.positions(cols.data(), static_cast<int>(cols.size()), out);
+        bool all = true;
+        std::size_t at = 1;
+        for (std::size_t y = 0; y < cols.size(); ++y) {
+          for (std::size_t x = y; x < cols.size(); ++x, ++at) {
+            QVERIFY(at < out.size());
+            QCOMPARE(out[at], f.position(cols[x], cols[y]));
+            all = all && out[at] >= 0;
+          }
+        }
+        QCOMPARE(out.size(), at);
+        QCOMPARE(out.front(), 42);
+        QCOMPARE(held, all);
+      }
+    }
+  }
+
   void refusesAMatrixThatIsNotPositiveDefinite() {
     Problem p = make({6, 6, 6}, false, false, 8);
     p.matrix(7, 7) = -1.0;
