@@ -101,7 +101,7 @@ int BlockCholesky::block(int i, int j) const {
   return col.offsets[it - col.below.begin()];
 }
 
-int BlockCholesky::position(int r, int c) const {
+int BlockCholesky::locate(int r, int c, Memo& memo) const {
   if (r < 0 || c < 0 || r >= unknowns_ || c >= unknowns_) return -1;
   int i = rank_[group_of_[r]], j = rank_[group_of_[c]];
   if (i == j && r < c) return -1;
@@ -109,39 +109,25 @@ int BlockCholesky::position(int r, int c) const {
     std::swap(i, j);
     std::swap(r, c);
   }
-  const int at = i == j ? groups_[j].diagonal : block(i, j);
-  if (at < 0) return -1;
-  return at + (r - groups_[i].first) + (c - groups_[j].first) * width_;
+  if (i != memo.i || j != memo.j) {
+    memo = {i, j, i == j ? groups_[j].diagonal : block(i, j)};
+  }
+  if (memo.at < 0) return -1;
+  return memo.at + (r - groups_[i].first) + (c - groups_[j].first) * width_;
+}
+
+int BlockCholesky::position(int r, int c) const {
+  Memo memo;
+  return locate(r, c, memo);
 }
 
 bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) const {
   bool held = true;
-  int last_i = -1, last_j = -1, at = -1;  // the last pair of groups, and its block
+  Memo memo;  // a block's entries come in runs of one pair of groups: one search per run
   for (int y = 0; y < k; ++y) {
     for (int x = y; x < k; ++x) {
-      int r = cols[x], c = cols[y];
-      // As position(), with the block's search done once per pair of groups.
-      int i = -1, j = -1;
-      if (r >= 0 && c >= 0 && r < unknowns_ && c < unknowns_) {
-        i = rank_[group_of_[r]];
-        j = rank_[group_of_[c]];
-      }
-      if (i < 0 || (i == j && r < c)) {
-        out.push_back(-1);
-        held = false;
-        continue;
-      }
-      if (i < j) {
-        std::swap(i, j);
-        std::swap(r, c);
-      }
-      if (i != last_i || j != last_j) {
-        last_i = i;
-        last_j = j;
-        at = i == j ? groups_[j].diagonal : block(i, j);
-      }
-      out.push_back(at < 0 ? -1 : at + (r - groups_[i].first) + (c - groups_[j].first) * width_);
-      held = held && at >= 0;
+      out.push_back(locate(cols[x], cols[y], memo));
+      held = held && out.back() >= 0;
     }
   }
   return held;
