@@ -5,6 +5,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 
 namespace pb {
 
@@ -122,12 +123,56 @@ int BlockCholesky::position(int r, int c) const {
 }
 
 bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) const {
+  // Each column's group (its rank, by its index in `ranks`) and place in that group, found once;
+  // then each pair of the block's groups (a contact block spans two) is looked up once.
+  constexpr int kMaxCols = 32, kMaxGroups = 4;
+  std::array<int, kMaxCols> group{}, place{};
+  std::array<int, kMaxGroups> ranks{};
+  int n = 0;
+  bool tabled = k <= kMaxCols;
+  for (int x = 0; x < k && tabled; ++x) {
+    const int u = cols[x];
+    group[x] = -1;
+    if (u < 0 || u >= unknowns_) continue;
+    const int r = rank_[group_of_[u]];
+    int g = 0;
+    while (g < n && ranks[g] != r) ++g;
+    if (g == kMaxGroups) {
+      tabled = false;
+      break;
+    }
+    if (g == n) ranks[n++] = r;
+    group[x] = g;
+    place[x] = u - groups_[r].first;
+  }
   bool held = true;
-  Memo memo;  // a block's entries come in runs of one pair of groups: one search per run
+  if (!tabled) {  // wider than the table: entry by entry, one search per run of a pair of groups
+    Memo memo;
+    for (int y = 0; y < k; ++y) {
+      for (int x = y; x < k; ++x) {
+        out.push_back(locate(cols[x], cols[y], memo));
+        held = held && out.back() >= 0;
+      }
+    }
+    return held;
+  }
+  std::array<std::array<int, kMaxGroups>, kMaxGroups> base{};  // (-1: the factor holds none)
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      const int i = std::max(ranks[a], ranks[b]), j = std::min(ranks[a], ranks[b]);
+      base[a][b] = base[b][a] = i == j ? groups_[j].diagonal : block(i, j);
+    }
+  }
   for (int y = 0; y < k; ++y) {
     for (int x = y; x < k; ++x) {
-      out.push_back(locate(cols[x], cols[y], memo));
-      held = held && out.back() >= 0;
+      const int gx = group[x], gy = group[y];
+      int at = -1;  // as locate(cols[x], cols[y])
+      if (gx >= 0 && gy >= 0 && base[gx][gy] >= 0 && (gx != gy || cols[x] >= cols[y])) {
+        const bool swapped = ranks[gx] < ranks[gy];
+        at = base[gx][gy] + (swapped ? place[y] + place[x] * width_ : place[x] + place[y] * width_);
+      }
+      out.push_back(at);
+      held = held && at >= 0;
     }
   }
   return held;

@@ -26,8 +26,9 @@ class BlockCholesky {
   /// block is read). -1 when the structure holds no such entry.
   int position(int r, int c) const;
   /// position() of every entry (cols[x], cols[y]), x >= y, of the dense block over the `k`
-  /// unknowns `cols` (ascending), appended to `out` column by column (y, then x from y): one
-  /// search per pair of groups instead of one per entry (a step maps every contact block's).
+  /// unknowns `cols` (ascending), appended to `out` column by column (y, then x from y): each
+  /// column's group found once and one search per pair of groups, instead of both per entry (a
+  /// step maps every contact block's).
   /// False when the structure does not hold some entry (its position is -1).
   bool positions(const int* cols, int k, std::vector<int>& out) const;
 

@@ -7,6 +7,7 @@
 #include <QtTest>
 
 #include <Eigen/Dense>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -143,12 +144,16 @@ class BlockCholeskyTest : public QObject {
       const Problem p = make({2, 6, 6, 7, 6, 6, 6}, ring, true, 3);
       BlockCholesky f;
       QVERIFY(f.analyse(p.first, p.size, p.couples));
+      std::vector<int> every_unknown(39);
+      std::iota(every_unknown.begin(), every_unknown.end(), 0);
       const std::vector<std::vector<int>> blocks = {
           {2, 3, 4, 5, 6, 7},                                  // one group
           {0, 1, 2, 3, 4, 5, 6, 7},                            // the slides and a body
           {8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20},  // 6 + 7 wide
           {0, 1, 27, 28, 29, 30, 31, 32},                      // two groups the hub couples
           {1, 3, 14, 20, 33, 37},                              // some columns of several
+          {0, 3, 9, 15, 22, 28},                               // six groups (more than tabled)
+          every_unknown,                                       // 39 columns (more than tabled)
           {14, 15, 33, 34},                                    // two groups nothing couples
           {7, 5, 3},                                           // not ascending
           {3, 4, 1000},                                        // out of range
