@@ -8,6 +8,7 @@
 #include <cmath>
 #include <exception>
 #include <random>
+#include <tuple>
 #include <variant>
 
 #include "app/server/reference_api.hpp"
@@ -840,8 +841,11 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
     auto pallet = read_pallet(pallet_member(body, prefix), prefix, reading);
     MapOptions grids;
     Diagnostics bad_grids;
-    for (auto [key, grid] : {std::pair{"speeds_mps", &grids.speeds_mps},
-                             std::pair{"accels_mps2", &grids.accels_mps2}}) {
+    // Every bad member of both grids is named at once: the ones that are not numbers, and the
+    // numbers out of range or out of order among the rest.
+    for (auto [key, grid, kind] :
+         {std::tuple{"speeds_mps", &grids.speeds_mps, MapGrid::speeds},
+          std::tuple{"accels_mps2", &grids.accels_mps2, MapGrid::accels}}) {
       if (prefix.empty() || !body.contains(key)) continue;
       const Json& v = body[key];
       const std::string at = std::string("/") + key;
@@ -850,14 +854,23 @@ Service::Service(ServiceOptions options) : options_(std::move(options)), pool_(o
                              Severity::error});
         continue;
       }
-      const std::size_t before = bad_grids.size();
+      std::vector<double> numbers;
+      std::vector<std::size_t> index;
       for (std::size_t i = 0; i < v.size(); ++i) {
-        if (v[i].is_number()) continue;
+        if (v[i].is_number()) {
+          numbers.push_back(v[i].get<double>());
+          index.push_back(i);
+          continue;
+        }
         bad_grids.push_back({at + "/" + std::to_string(i),
                              "must be a number, not " + std::string(v[i].type_name()),
                              Severity::error});
       }
-      if (bad_grids.size() == before) *grid = v.get<std::vector<double>>();
+      if (numbers.empty()) continue;  // (every member is named already)
+      for (Diagnostic& d : map_grid_problems(kind, numbers, at, index)) {
+        bad_grids.push_back(std::move(d));
+      }
+      if (numbers.size() == v.size()) *grid = std::move(numbers);
     }
     const std::optional<Response> grids_refused =
         bad_grids.empty() ? std::nullopt
@@ -1070,15 +1083,18 @@ std::string media_type(std::string_view content_type) {
   return type;
 }
 
-// The content types a web page may POST to another origin without asking first (a CORS "simple
-// request"), when a body was sent in one: refused, so that no page outside the allowlist can
-// start analyses here. A body without a Content-Type (some scripts) or with any JSON type is read
-// as JSON. The HTTP layer parses a multipart body and drops it, so its body reads empty here.
-bool simple_form(const Request& request) {
+// A body sent as something other than JSON: refused (415). A body without a Content-Type (some
+// scripts) or with a JSON type (application/json, or a structured ...+json type) is read as JSON.
+// Among those refused are the types a web page may POST to another origin without asking first
+// (a CORS "simple request": text/plain, a form), so that no page outside the allowlist can start
+// analyses here, and a type that says the body is something else (application/xml: a client that
+// sends XML is told so, not handed a JSON parse error). The HTTP layer parses a multipart body
+// and drops it, so its body reads empty here.
+bool not_json(const Request& request) {
   const std::string type = media_type(request.content_type);
   if (type == "multipart/form-data") return true;
-  return !request.body.empty() &&
-         (type == "text/plain" || type == "application/x-www-form-urlencoded");
+  const bool json = type.empty() || type == "application/json" || type.ends_with("+json");
+  return !request.body.empty() && !json;
 }
 
 }  // namespace
@@ -1118,7 +1134,7 @@ Response Service::dispatch(const Request& request, std::string& route) {
       allowed.push_back(r.method);
       continue;
     }
-    if (request.method == "POST" && simple_form(request)) {
+    if (request.method == "POST" && not_json(request)) {
       return error_response(415, "the body was sent as '" + request.content_type +
                                      "'; send JSON with the header content-type: "
                                      "application/json");

@@ -41,35 +41,36 @@ std::vector<double> linear_grid(double lo, double hi, int n) {
   return out;
 }
 
-namespace {
+namespace {}  // namespace
 
-// Checks one axis of the grid: ascending, inside (0, max].
-std::optional<Diagnostic> check_grid(const std::vector<double>& grid, const std::string& pointer,
-                                     double max, const char* unit) {
-  if (grid.empty())
-    return Diagnostic{pointer, "the grid is empty: give at least one value", Severity::error};
-  if (grid.size() > 256) {
-    return Diagnostic{pointer,
-                      "the grid has " + std::to_string(grid.size()) + " values: give at most 256",
-                      Severity::error};
+Diagnostics map_grid_problems(MapGrid grid, const std::vector<double>& values,
+                              const std::string& pointer, const std::vector<std::size_t>& index) {
+  const double max = grid == MapGrid::speeds ? kMapMaxSpeedMps : kMapMaxAccelMps2;
+  const char* unit = grid == MapGrid::speeds ? "m/s" : "m/s^2";
+  if (values.empty())
+    return {{pointer, "the grid is empty: give at least one value", Severity::error}};
+  if (values.size() > 256) {
+    return {{pointer, "the grid has " + std::to_string(values.size()) + " values: give at most 256",
+             Severity::error}};
   }
-  for (std::size_t k = 0; k < grid.size(); ++k) {
-    const double x = grid[k];
-    const std::string at = pointer + "/" + std::to_string(k);
+  Diagnostics out;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const double x = values[k];
+    const std::string at = pointer + "/" + std::to_string(k < index.size() ? index[k] : k);
     if (!std::isfinite(x) || x <= 0.0 || x > max) {
-      return Diagnostic{at,
-                        "value " + fixed(x, 3) + " is outside (0, " + fixed(max, 1) + "] " + unit,
-                        Severity::error};
-    }
-    if (k > 0 && x <= grid[k - 1]) {
-      return Diagnostic{at,
-                        "values must be strictly ascending (" + fixed(grid[k - 1], 3) + " then " +
-                            fixed(x, 3) + ")",
-                        Severity::error};
+      out.push_back({at, "value " + fixed(x, 3) + " is outside (0, " + fixed(max, 1) + "] " + unit,
+                     Severity::error});
+    } else if (k > 0 && x <= values[k - 1]) {
+      out.push_back({at,
+                     "values must be strictly ascending (" + fixed(values[k - 1], 3) + " then " +
+                         fixed(x, 3) + ")",
+                     Severity::error});
     }
   }
-  return std::nullopt;
+  return out;
 }
+
+namespace {
 
 struct Job {
   ConveyorProfile profile;
@@ -108,13 +109,17 @@ Result<FailureMap> run_failure_map(const Scene& scene, const RestState& rest,
   Diagnostics problems;
   if (options.speeds_mps.empty() && (options.n_speeds < 1 || options.n_speeds > 256)) {
     problems.push_back({"/n_speeds", "give 1 to 256 speeds", Severity::error});
-  } else if (auto p = check_grid(map.speeds_mps, "/speeds_mps", 5.0, "m/s")) {
-    problems.push_back(*p);
+  } else {
+    for (Diagnostic& p : map_grid_problems(MapGrid::speeds, map.speeds_mps, "/speeds_mps")) {
+      problems.push_back(std::move(p));
+    }
   }
   if (options.accels_mps2.empty() && (options.n_accels < 1 || options.n_accels > 256)) {
     problems.push_back({"/n_accels", "give 1 to 256 accelerations", Severity::error});
-  } else if (auto p = check_grid(map.accels_mps2, "/accels_mps2", 10.0, "m/s^2")) {
-    problems.push_back(*p);
+  } else {
+    for (Diagnostic& p : map_grid_problems(MapGrid::accels, map.accels_mps2, "/accels_mps2")) {
+      problems.push_back(std::move(p));
+    }
   }
   if (options.threads < 0) {
     problems.push_back(

@@ -73,6 +73,20 @@ struct MapOptions {
   int threads = 0;  ///< 0: every logical CPU
 };
 
+/// The grids' ranges: a map's speeds in (0, kMapMaxSpeedMps], its start-ups in (0,
+/// kMapMaxAccelMps2].
+constexpr double kMapMaxSpeedMps = 5.0;
+constexpr double kMapMaxAccelMps2 = 10.0;
+enum class MapGrid { speeds, accels };
+
+/// Every problem of an explicit grid (MapOptions::speeds_mps or accels_mps2) sent at `pointer`:
+/// empty, more than 256 values, each value outside its range, each not above the one before it
+/// (at `pointer`/k). `index`, where given, is each value's place in the array sent, when some of
+/// its members (not numbers) were left out.
+Diagnostics map_grid_problems(MapGrid grid, const std::vector<double>& values,
+                              const std::string& pointer,
+                              const std::vector<std::size_t>& index = {});
+
 /// `n` values from lo to hi inclusive (n >= 2; n == 1 gives {hi}).
 std::vector<double> linear_grid(double lo, double hi, int n);
 

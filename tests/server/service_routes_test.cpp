@@ -8,6 +8,7 @@
 #include <sys/time.h>
 #include <unistd.h>
 #include <QtTest>
+#include <set>
 
 #include "core/analysis/analyzer.hpp"
 #include "core/contract/json_io.hpp"
@@ -497,6 +498,29 @@ class ServiceRoutesTest : public QObject {
     QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
   }
 
+  // A request that declares no body (neither Content-Length nor Transfer-Encoding) has none
+  // (RFC 9112 6.3) and is answered at once: cpp-httplib read one until the client closed or 30 s
+  // passed, holding a connection thread, so eighty of them stalled the service for 34 s (and
+  // raw_exchange, which waits 10 s, got no reply).
+  void aRequestWithoutALengthHasNoBody() {
+    const std::pair<const char*, int> cases[] = {
+        {"POST /safety/analyze", 400},  // no body: say so
+        {"PUT /healthz", 405},          // the wrong method: say which
+        {"DELETE /v1/validate", 405},
+        {"PATCH /v1/analyze", 405},
+    };
+    for (const auto& [line, status] : cases) {
+      const std::string reply = raw_exchange(
+          server_->port(),
+          std::string(line) + " HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n\r\n");
+      QVERIFY2(reply.starts_with("HTTP/1.1 " + std::to_string(status)),
+               qPrintable(QString::fromStdString(std::string(line) + " -> " + reply)));
+      const Json body = Json::parse(reply.substr(reply.find("\r\n\r\n") + 4));
+      QVERIFY(!body["errors"][0]["message"].get<std::string>().empty());
+    }
+    QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
+  }
+
   // Whatever refuses a request, "errors" says why: a client reading only it never finds [].
   void every_refusal_lists_its_error() {
     std::vector<httplib::Result> refusals;
@@ -613,7 +637,8 @@ class ServiceRoutesTest : public QObject {
   }
 
   // A count is a whole number (2.5 samples was run as 2); a grid that is there holds numbers; a
-  // body a web page may POST to any origin without asking (text/plain, a form) is refused (415).
+  // body a web page may POST to any origin without asking (text/plain, a form), or one that says
+  // it is not JSON, is refused (415).
   void counts_grids_and_content_types_are_checked() {
     const std::string pallet = pallet_of(*client_, "stable-dairy-slab");
     const std::string profile = R"("profile": {"target_speed_mps": 1, "accel_mps2": 1})";
@@ -626,6 +651,16 @@ class ServiceRoutesTest : public QObject {
     auto word = post_wrapped(*client_, "/v1/map", R"("speeds_mps": [1, "x"])", pallet);
     QCOMPARE(word->status, 422);
     QCOMPARE(body_of(word)["errors"][0]["pointer"], "/speeds_mps/1");
+    // Every bad member of both grids at once: the word, and the numbers out of range or order.
+    auto several = post_wrapped(
+        *client_, "/v1/map", R"("speeds_mps": [-1, "a", 2, 1.5], "accels_mps2": [1e308])", pallet);
+    QCOMPARE(several->status, 422);
+    const Json refused = body_of(several);
+    std::set<std::string> named;
+    for (const Json& e : refused["errors"]) named.insert(e["pointer"].get<std::string>());
+    const std::set<std::string> all{"/speeds_mps/0", "/speeds_mps/1", "/speeds_mps/3",
+                                    "/accels_mps2/0"};
+    QVERIFY2(named == all, refused.dump().c_str());
     QCOMPARE(client_->Get("/friction/curve?pair=carton/carton&n=2.7")->status, 422);
     // A query parameter the route does not read (a misspelt one would leave its default in
     // force), or one given twice, is refused with its name.
@@ -643,11 +678,16 @@ class ServiceRoutesTest : public QObject {
     auto none = client_->Get("/healthz?verbose=1");
     QCOMPARE(none->status, 422);
     QVERIFY(body_of(none)["detail"].get<std::string>().find("it takes none") != std::string::npos);
-    for (const char* type : {"text/plain", "application/x-www-form-urlencoded; charset=utf-8"}) {
+    for (const char* type : {"text/plain", "application/x-www-form-urlencoded; charset=utf-8",
+                             "application/xml", "text/html"}) {
       auto form = client_->Post("/v1/validate", pallet, type);
       QCOMPARE(form->status, 415);
       QVERIFY(body_of(form)["detail"].get<std::string>().find("application/json") !=
               std::string::npos);
+    }
+    // JSON by any of its names, parameters and case aside, is read.
+    for (const char* type : {"Application/JSON; charset=utf-8", "application/vnd.pallet+json"}) {
+      QCOMPARE(client_->Post("/v1/validate", pallet, type)->status, 200);
     }
     // A file upload (curl -F): the HTTP layer drops its parts, and it is still a 415.
     const httplib::MultipartFormDataItems upload{{"a", pallet, "pallet.json", "application/json"}};
