@@ -310,7 +310,9 @@ std::vector<Command> data_commands() {
          {"min-items", "A",
           "fewest items per layer (default 4; a column pallet, drawn for about one seed in five, "
           "is a tower of at most 2 a layer whatever this asks)"},
-         {"max-items", "B", "most items per layer (default 10)"},
+         {"max-items", "B",
+          "most items per layer (default 10; below 4 only the patterns that can hold so few are "
+          "drawn: column, and irregular from 3)"},
          {"wrap", "W",
           "none, shrink, stretch, banded, or mixed (drawn per pallet; default stretch)"}},
         0,

@@ -76,6 +76,11 @@ std::optional<std::string> read_document_text(const std::string& path) {
 
 Result<PalletSource> read_pallet_source(const std::string& arg) {
   if (arg != "-" && !std::filesystem::exists(arg)) return curated_pallet(arg);
+  std::error_code ec;
+  if (arg != "-" && std::filesystem::is_directory(arg, ec)) {
+    return Result<PalletSource>::failure(
+        "", "'" + arg + "' is a directory; give a pallet or scenario file in it (.json)");
+  }
   auto text = read_document_text(arg);
   if (!text) {
     const std::string what = "cannot open '" + arg + "'; check the path and its permissions";

@@ -3,6 +3,7 @@
 #include "core/base/text.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -194,7 +195,13 @@ Diagnostics validate_random_options(const RandomPalletOptions& options) {
 ScannerInputs random_scanner_inputs(const RandomPalletOptions& options, const Catalog& catalog) {
   Rng rng(options.seed);
   const EnvChoice& env = kEnvs[rng.weighted_index(weights_of(kEnvs))];
-  const PatternChoice& pattern = kPatterns[rng.weighted_index(weights_of(kPatterns))];
+  // A pattern that needs more items a layer than asked for is not drawn (the column always can
+  // be); the draw is the same one as ever when every pattern can.
+  std::array<double, std::size(kPatterns)> pattern_weights = weights_of(kPatterns);
+  for (std::size_t i = 0; i < pattern_weights.size(); ++i) {
+    if (kPatterns[i].min_items_per_layer > options.max_items_per_layer) pattern_weights[i] = 0.0;
+  }
+  const PatternChoice& pattern = kPatterns[rng.weighted_index(pattern_weights)];
   const Homogeneity homogeneity = kHomogeneities[rng.weighted_index(kHomogeneityWeights)];
   const PalletType base = kBases[rng.weighted_index(kBaseWeights)];
 

@@ -63,6 +63,11 @@ class PalletSourceTest : public QObject {
     QVERIFY(none.diagnostics[0].message.find("no such file and no curated scenario") !=
             std::string::npos);
     QVERIFY(none.diagnostics[0].message.find("stable-dairy-slab") != std::string::npos);
+
+    auto folder = read_pallet_source(dir.path().toStdString());  // says what it is
+    QVERIFY(!folder.ok());
+    QVERIFY2(folder.diagnostics[0].message.find("is a directory") != std::string::npos,
+             folder.diagnostics[0].message.c_str());
   }
 };
 
