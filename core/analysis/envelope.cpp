@@ -257,9 +257,10 @@ AxisPredictions predict_envelope(const QuasiStaticBounds& bounds, const LineDesc
 }
 
 namespace {
-// The SafetyResult from the four axes; `predicted`: no simulation ran (the closed-form level).
+// The SafetyResult from the four axes, its reason in the words of `thresholds`' detectors;
+// `predicted`: no simulation ran (the closed-form level).
 void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s,
-               bool predicted = false);
+               const DetectorThresholds& thresholds, bool predicted = false);
 void stamp_sims_and_time(Envelope& env, std::chrono::steady_clock::time_point start);
 }  // namespace
 
@@ -1464,14 +1465,24 @@ Result<Envelope> search_envelope(const ProbeModel& along_model, const ProbeModel
   env.decel = *outcomes[1].limit;
   env.lateral = *outcomes[2].limit;
   env.speed = *outcomes[3].limit;
-  summarise(env, line, s);
+  summarise(env, line, s, o.thresholds);
   stamp_sims_and_time(env, start);
   return Result<Envelope>{std::move(env), {}};
 }
 
 namespace {
 
-void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s, bool predicted) {
+// What fails above a limit: mode_words, and for the pallet's slip the allowance it slid past (a
+// pallet may slip a little at a limit: the detector fails it only past that slide).
+std::string failure_words(FailureMode mode, bool item_tipped, const DetectorThresholds& t) {
+  if (mode == FailureMode::pallet_slip) {
+    return "the pallet slides more than " + fixed(t.pallet_slip_m, 2) + " m on the belt";
+  }
+  return std::string(mode_words(mode, item_tipped));
+}
+
+void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s,
+               const DetectorThresholds& thresholds, bool predicted) {
   SafetyResult& r = env.result;
   r.line_estop_decel_mps2 = line.estop_decel_mps2;
   r.line_curve_radius_m = line.curve_radius_m;
@@ -1534,7 +1545,7 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.margin_pct = 0.0;
     r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
                floor_axis->name + " tried (" +
-               std::string(mode_words(floor_axis->axis->mode, floor_axis->axis->item_tipped)) +
+               failure_words(floor_axis->axis->mode, floor_axis->axis->item_tipped, thresholds) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {
     r.verdict = Verdict::ok;
@@ -1544,9 +1555,9 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     // The accelerations were measured (or, at the closed-form level, predicted) on start-ups
     // to, and stops from, the top of the speed range (the probes); the speed limit is the
     // line's, after them. Each axis says what fails above it.
-    auto above = [](const AxisLimit& a) {
+    auto above = [&](const AxisLimit& a) {
       if (a.at_ceiling) return std::string("the top of the range");
-      std::string words = "above it, " + std::string(mode_words(a.mode, a.item_tipped));
+      std::string words = "above it, " + failure_words(a.mode, a.item_tipped, thresholds);
       if (a.loose_at_entry) words += " once the load's sway at the curve's entry breaks it loose";
       return words;
     };
@@ -1616,7 +1627,7 @@ Envelope closed_form_envelope(const QuasiStaticBounds& bounds, const LineDescrip
   }
   env.speed = closed_form_axis({stop.accel_mps2, stop.mode}, s.speed_min_mps, s.speed_max_mps,
                                s.speed_precision_mps);
-  summarise(env, line, s, /*predicted=*/true);
+  summarise(env, line, s, thresholds, /*predicted=*/true);
   stamp_sims_and_time(env, start);
   env.result.fidelity = Fidelity::closed_form;
   return env;

@@ -46,6 +46,8 @@ Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile) {
   j["failure"] = failure_event_to_json(sim.failure);
   if (sim.outcome == Outcome::unstable) j["reason"] = sim.reason;
   if (!sim.aftermath_cut.empty()) j["aftermath_cut"] = sim.aftermath_cut;
+  j["peak_ratio"] = sim.peak_ratio;
+  j["load_peak_ratio"] = sim.load_peak_ratio;
   j["steps"] = sim.steps;
   j["steps_skipped"] = sim.steps_skipped;
   j["skipped_s"] = sim.skipped_s;

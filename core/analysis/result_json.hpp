@@ -34,7 +34,9 @@ Json validation_report_to_json(const PalletConfig& config, const Diagnostics& di
 Json failure_event_to_json(const std::optional<FailureEvent>& failure);
 
 /// One simulation of `profile`: "outcome", "failure", "reason" (unstable only), "aftermath_cut"
-/// (only when a failure's aftermath ended early, and why), "steps",
+/// (only when a failure's aftermath ended early, and why), "peak_ratio" and "load_peak_ratio"
+/// (how near it came to failing: the largest detector reading over its threshold, of every
+/// detector and of the load's own, without the pallet's slip on its belt), "steps",
 /// "steps_skipped", "skipped_s", "sim_time_s", "stopped_early", "wall_ms", "profile".
 Json sim_result_to_json(const SimResult& sim, const ConveyorProfile& profile);
 

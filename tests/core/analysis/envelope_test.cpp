@@ -427,6 +427,19 @@ class EnvelopeTest : public QObject {
       QVERIFY2(std::abs(a->limit - expected) <= search_.accel_precision_mps2, describe(*a));
       QVERIFY2(a->probes <= 3, describe(*a));
     }
+    // The reason says what the slip above the limit is: past its allowance, not its onset (mu g
+    // is 1.96 m/s^2 here, the limit 2.78), in the detectors' own allowance.
+    const std::string& why = env->result.reason;
+    QVERIFY2(
+        why.find("(above it, the pallet slides more than 0.30 m on the belt;") != std::string::npos,
+        why.c_str());
+    DetectorThresholds strict;
+    strict.pallet_slip_m = 0.05;
+    const Envelope predicted = closed_form_envelope(s->bounds, line_, search_, strict);
+    QCOMPARE(predicted.accel.mode, FailureMode::pallet_slip);
+    QVERIFY2(predicted.result.reason.find("the pallet slides more than 0.05 m on the belt") !=
+                 std::string::npos,
+             predicted.result.reason.c_str());
   }
 
   // A tip fails at its onset; a slip that cannot slide its allowance inside the range, nowhere.

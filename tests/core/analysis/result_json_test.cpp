@@ -39,6 +39,11 @@ class ResultJsonTest : public QObject {
     SimResult safe;
     QVERIFY(sim_result_to_json(safe, {})["failure"].is_null());
     QVERIFY(!sim_result_to_json(safe, {}).contains("reason"));
+    // A safe run says how near it came: a pallet that slid 0.28 m of its 0.30 m allowance.
+    safe.peak_ratio = 0.28 / 0.30;
+    safe.load_peak_ratio = 0.1;
+    QCOMPARE(sim_result_to_json(safe, {})["peak_ratio"].get<double>(), 0.28 / 0.30);
+    QCOMPARE(sim_result_to_json(safe, {})["load_peak_ratio"].get<double>(), 0.1);
     SimResult failed;
     failed.outcome = Outcome::failed;
     failed.failure = FailureEvent{};
