@@ -135,16 +135,9 @@ struct ConstraintSolver::Impl {
   void mul_jt(int nv, const double* f, double* out);
   double constraint_update(const mjModel* m, mjData* d, const double* jar, bool forces);
   bool map_dest(const mjModel* m, const Structure& p);
-  void assemble(const mjData* d, Structure& p, const std::vector<int>& assembled_state);
+  void assemble(const mjData* d, Structure& p);
   void add_pair_block(const mjData* d, const Block& b, const double* jrow);
   Eigen::Matrix<double, kPairWidth, kPairWidth> pair;  // add_pair_block's
-  // Each pair block's J' W J as the step's last assembly computed it (kPairSquare values a block,
-  // column-major), and whether it holds one: a later assembly in the same solve takes it again
-  // while the block's rows keep the states it was computed at, none in the cone's middle zone
-  // (whose Hessian moves with the iterate).
-  static constexpr int kPairSquare = kPairWidth * kPairWidth;
-  std::vector<double> pair_cache;
-  std::vector<char> pair_cached;
   void precondition(const mjModel* m, mjData* d, Structure& p, bool factored, const double* in,
                     double* out);
   double update(const mjModel* m, mjData* d, const double* qacc);
@@ -455,31 +448,18 @@ bool ConstraintSolver::Impl::map_dest(const mjModel* m, const Structure& p) {
 
 // H = M + sum over quadratic rows of D J_i' J_i + sum over cone contacts of J_c' H_c J_c, at the
 // states (and cone Hessians) constraint_update left in d, into the pattern's values.
-// `assembled_state`: the rows' states at this solve's last assembly (pair_cache's).
-void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p,
-                                      const std::vector<int>& assembled_state) {
+void ConstraintSolver::Impl::assemble(const mjData* d, Structure& p) {
   double* values = p.factor.values();
   std::fill(values, values + p.factor.value_count(), 0.0);
   for (size_t i = 0, n = mass_dest.size(); i < n; ++i) values[mass_dest[i]] += d->qM[i];
-  const int* states = d->efc_state;
-  for (size_t bi = 0; bi < blocks.size(); ++bi) {
-    const Block& b = blocks[bi];
+  for (const Block& b : blocks) {
     const int k = b.k;
     const double* jrow = packed.data() + b.packed;
     const int* to = dest.data() + b.dest;
     if (k == kPairWidth) {  // two free bodies: fixed-size products
-      double* cached = pair_cache.data() + bi * kPairSquare;
-      bool same = pair_cached[bi] != 0;
-      for (int row = b.first; row < b.end && same; ++row) {
-        same = states[row] == assembled_state[row] && states[row] != mjCNSTRSTATE_CONE;
-      }
-      if (!same) {
-        add_pair_block(d, b, jrow);
-        std::copy(pair.data(), pair.data() + kPairSquare, cached);
-        pair_cached[bi] = 1;
-      }
+      add_pair_block(d, b, jrow);
       for (int c = 0; c < k; ++c) {
-        for (int r = c; r < k; ++r) values[*to++] += cached[c * kPairWidth + r];
+        for (int r = c; r < k; ++r) values[*to++] += pair(r, c);
       }
       continue;
     }
@@ -742,8 +722,6 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
 
   // J's rows in blocks of shared columns (J is the step's: fixed while it is solved).
   s.collect_blocks(m, d);
-  s.pair_cache.resize(s.blocks.size() * Impl::kPairSquare);
-  s.pair_cached.assign(s.blocks.size(), 0);
 
   // efc_b = J qacc_smooth - aref; the start is the better of the warm start and qacc_smooth.
   s.mul_j(d->qacc_smooth, d->efc_b);
@@ -780,7 +758,7 @@ void ConstraintSolver::solve(const mjModel* m, mjData* d) {
   auto refactor = [&] {
     factored = false;
     if (mapped) {
-      s.assemble(d, p, factored_state);
+      s.assemble(d, p);
       factored = p.factor.factorize();
     }
     if (!factored) ++s.fallbacks;
