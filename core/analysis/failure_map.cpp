@@ -41,14 +41,13 @@ std::vector<double> linear_grid(double lo, double hi, int n) {
   return out;
 }
 
-namespace {}  // namespace
-
 Diagnostics map_grid_problems(MapGrid grid, const std::vector<double>& values,
                               const std::string& pointer, const std::vector<std::size_t>& index) {
   const double max = grid == MapGrid::speeds ? kMapMaxSpeedMps : kMapMaxAccelMps2;
   const char* unit = grid == MapGrid::speeds ? "m/s" : "m/s^2";
-  if (values.empty())
+  if (values.empty()) {
     return {{pointer, "the grid is empty: give at least one value", Severity::error}};
+  }
   if (values.size() > 256) {
     return {{pointer, "the grid has " + std::to_string(values.size()) + " values: give at most 256",
              Severity::error}};
