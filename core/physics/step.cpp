@@ -225,13 +225,11 @@ void coulomb_friction(const mjModel* m, mjData* d) {
   }
 }
 
-// qfrc += J' force for `force` (world frame) at the world point `at` on `body`: MuJoCo 2.2.2's
-// mj_applyFT(m, d, force, {0, 0, 0}, at, body, qfrc) to the bit, on the body's chain of degrees of
-// freedom only. mj_applyFT builds the dense 3 x nv Jacobians and multiplies them out (on a
-// 70-carton brick whose cartons slide, 3 % of the run); its sums are formed here in its order:
-// each dof's row of J' f summed from zero over the force's nonzero components, added to qfrc, and
-// the zero torque's row added after it. The zero rows of every other dof only turn a -0 in qfrc
-// into +0, which normalise_zeros does once, before the first force.
+}  // namespace
+
+// mj_applyFT (on a 70-carton brick whose cartons slide, 3 % of the run) builds the dense 3 x nv
+// Jacobians and multiplies them out; here each dof's row of J' f is summed from zero over the
+// force's nonzero components, added to qfrc, and the zero torque's row added after it.
 void apply_force(const mjModel* m, const mjData* d, const mjtNum force[3], const mjtNum at[3],
                  int body, mjtNum* qfrc) {
   const mjtNum* com = d->subtree_com + 3 * m->body_rootid[body];
@@ -252,6 +250,8 @@ void apply_force(const mjModel* m, const mjData* d, const mjtNum force[3], const
     qfrc[da] += 0.0;
   }
 }
+
+namespace {
 
 // x + 0.0 for every dof's entry (a -0 becomes +0), as mj_applyFT's zero rows leave them.
 void normalise_zeros(const mjModel* m, mjtNum* qfrc) {

@@ -65,6 +65,14 @@ void set_demand_field(const mjModel* m, mjData* d, const DemandField& field);
 /// side contact between neighbours is pushed along its normal and keeps MuJoCo's frame.
 inline constexpr double kLevelContactNz = 0.7;
 
+/// qfrc += J' force for a world-frame `force` at the world point `at` on `body`, on the degrees of
+/// freedom that move it: MuJoCo 2.2.2's mj_applyFT(m, d, force, {0, 0, 0}, at, body, qfrc) to the
+/// bit (its sums in its order), without its dense 3 x nv Jacobians, except that mj_applyFT's zero
+/// rows also turn a -0 in qfrc into +0 (step()'s kinetic friction does that once, before its
+/// first force). Needs d's kinematics (cdof, subtree_com).
+void apply_force(const mjModel* m, const mjData* d, const mjtNum force[3], const mjtNum at[3],
+                 int body, mjtNum* qfrc);
+
 /// True while a contact pair of the scene has broken loose (it slides at its kinetic coefficient
 /// until it sticks again); false for a model without the pairs' slots.
 bool any_pair_sliding(const mjModel* m, const mjData* d);

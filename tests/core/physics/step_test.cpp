@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "core/physics/engine.hpp"
 #include "core/physics/probe_run.hpp"
@@ -86,6 +88,48 @@ class StepTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // Kinetic friction's forces go onto the dofs by apply_force: mj_applyFT to the bit, on every
+  // body of a rig (the belt's slides, the pallet's and the carton's free joints, turned), for
+  // forces with zero and negative components.
+  void applyForceIsMjApplyFtToTheBit() {
+    Rig rig = settled(kCoulomb);
+    QVERIFY2(rig.error.empty(), rig.error.c_str());
+    const mjModel* m = rig.scene->model.get();
+    auto data = make_data(m);
+    mjData* d = data->get();
+    load_rest_state(rig.scene->layout, rig.rest, 0.3, *d);
+    // Every free body turned off level, so that each dof's row of J is a sum of three terms.
+    for (int j = 0; j < m->njnt; ++j) {
+      if (m->jnt_type[j] != mjJNT_FREE) continue;
+      mjtNum* q = d->qpos + m->jnt_qposadr[j] + 3;
+      const mjtNum turned[4] = {0.93, 0.21 + 0.01 * j, -0.17, 0.26};
+      mju_copy4(q, turned);
+      mju_normalize4(q);
+    }
+    mj_kinematics(m, d);
+    mj_comPos(m, d);
+    const mjtNum forces[][3] = {{3.5, -1.25, 0.0},
+                                {0.0, 0.0, -98.1},
+                                {-0.7, 2.0, 11.0},
+                                {3.7312961, -1.2571043, 0.44396127},
+                                {-17.033519, 5.9170321, -2.6034483}};
+    const mjtNum none[3] = {0.0, 0.0, 0.0};
+    int moved = 0;
+    for (int body = 0; body < m->nbody; ++body) {
+      for (const auto& f : forces) {
+        const mjtNum at[3] = {0.1371 + 0.0173 * body, -0.2219, 0.3137};
+        std::vector<mjtNum> a(std::size_t(m->nv)), b(std::size_t(m->nv));
+        for (int i = 0; i < m->nv; ++i) a[i] = b[i] = 0.5 * i - 1.0;  // no -0
+        mj_applyFT(m, d, f, none, at, body, a.data());
+        apply_force(m, d, f, at, body, b.data());
+        QVERIFY2(std::memcmp(a.data(), b.data(), sizeof(mjtNum) * a.size()) == 0,
+                 qPrintable(QString("body %1").arg(body)));
+        for (int i = 0; i < m->nv; ++i) moved += a[i] != 0.5 * i - 1.0 ? 1 : 0;
+      }
+    }
+    QVERIFY(moved > 0);  // the forces did something
+  }
+
   // Held at 0.9 mu_s g for 1.5 s: above the kinetic coefficient's mu_d g (2.94 m/s^2), so a model
   // with mu_d alone would slide it 0.5 (3.53 - 2.94) 1.5^2 = 0.67 m; static friction holds it.
   void holdsBelowItsStaticOnset() {
