@@ -102,7 +102,7 @@ int BlockCholesky::block(int i, int j) const {
   return col.offsets[it - col.below.begin()];
 }
 
-int BlockCholesky::locate(int r, int c, Memo& memo) const {
+int BlockCholesky::position(int r, int c) const {
   if (r < 0 || c < 0 || r >= unknowns_ || c >= unknowns_) return -1;
   int i = rank_[group_of_[r]], j = rank_[group_of_[c]];
   if (i == j && r < c) return -1;
@@ -110,16 +110,9 @@ int BlockCholesky::locate(int r, int c, Memo& memo) const {
     std::swap(i, j);
     std::swap(r, c);
   }
-  if (i != memo.i || j != memo.j) {
-    memo = {i, j, i == j ? groups_[j].diagonal : block(i, j)};
-  }
-  if (memo.at < 0) return -1;
-  return memo.at + (r - groups_[i].first) + (c - groups_[j].first) * width_;
-}
-
-int BlockCholesky::position(int r, int c) const {
-  Memo memo;
-  return locate(r, c, memo);
+  const int at = i == j ? groups_[j].diagonal : block(i, j);
+  if (at < 0) return -1;
+  return at + (r - groups_[i].first) + (c - groups_[j].first) * width_;
 }
 
 bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) const {
@@ -146,11 +139,10 @@ bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) con
     place[x] = u - groups_[r].first;
   }
   bool held = true;
-  if (!tabled) {  // wider than the table: entry by entry, one search per run of a pair of groups
-    Memo memo;
+  if (!tabled) {  // wider than the table (no contact block is): entry by entry
     for (int y = 0; y < k; ++y) {
       for (int x = y; x < k; ++x) {
-        out.push_back(locate(cols[x], cols[y], memo));
+        out.push_back(position(cols[x], cols[y]));
         held = held && out.back() >= 0;
       }
     }
@@ -166,7 +158,7 @@ bool BlockCholesky::positions(const int* cols, int k, std::vector<int>& out) con
   for (int y = 0; y < k; ++y) {
     for (int x = y; x < k; ++x) {
       const int gx = group[x], gy = group[y];
-      int at = -1;  // as locate(cols[x], cols[y])
+      int at = -1;  // as position(cols[x], cols[y])
       if (gx >= 0 && gy >= 0 && base[gx][gy] >= 0 && (gx != gy || cols[x] >= cols[y])) {
         const bool swapped = ranks[gx] < ranks[gy];
         at = base[gx][gy] + (swapped ? place[y] + place[x] * width_ : place[x] + place[y] * width_);

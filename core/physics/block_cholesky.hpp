@@ -62,11 +62,6 @@ class BlockCholesky {
   int width_ = kWidth;  // of every block: the widest group, at least kWidth
 
   int block(int i, int j) const;  // offset of block (i, j), i after j in the order; -1 if none
-  // position(), remembering the last pair of groups (in elimination order) and its block.
-  struct Memo {
-    int i = -1, j = -1, at = -1;
-  };
-  int locate(int r, int c, Memo& memo) const;
 };
 
 }  // namespace pb
