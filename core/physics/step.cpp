@@ -2,6 +2,7 @@
 #include "core/physics/step.hpp"
 
 #include "core/physics/constraint_solver.hpp"
+#include "core/physics/contact_constraints.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -356,7 +357,10 @@ void step(const mjModel* m, mjData* d) {
   mj_collision(m, d);
   align_pyramids(m, d);
   coulomb_friction(m, d);
-  mj_makeConstraint(m, d);
+  const bool own_solve = preconditioned_cg(m);
+  if (!own_solve || !contact_constraints_apply(m) || !make_contact_constraints(m, d)) {
+    mj_makeConstraint(m, d);  // with our solve, MuJoCo's transposed Jacobian is not read
+  }
   mj_transmission(m, d);
   mj_projectConstraint(m, d);
   mj_sensorPos(m, d);
@@ -367,7 +371,7 @@ void step(const mjModel* m, mjData* d) {
   if (mjENABLED(mjENBL_ENERGY)) mj_energyVel(m, d);
   mj_fwdActuation(m, d);
   mj_fwdAcceleration(m, d);
-  if (preconditioned_cg(m)) {
+  if (own_solve) {
     thread_constraint_solver().solve(m, d);
   } else {
     mj_fwdConstraint(m, d);
