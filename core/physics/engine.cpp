@@ -139,9 +139,12 @@ void* shared_span_alloc(const DualMatrixSpan& span) {
   char* hi = first + span.end / page * page;
   const int fd = lo < hi ? memfd_create("pb-dual-matrix", MFD_CLOEXEC) : -1;
   bool mapped = fd >= 0 && ftruncate(fd, off_t(kSharedSpanBytes)) == 0;
+  // MAP_POPULATE maps each page of the chunk at once rather than on mj_makeData's memset, one
+  // fault a page: make_data of r7x10_1 (a 100 MB span) 330 -> 200 ms (session 40).
   for (char* at = lo; mapped && at < hi; at += kSharedSpanBytes) {
     const std::size_t n = std::min(kSharedSpanBytes, std::size_t(hi - at));
-    mapped = mmap(at, n, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED, fd, 0) != MAP_FAILED;
+    mapped = mmap(at, n, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_FIXED | MAP_POPULATE, fd, 0) !=
+             MAP_FAILED;
   }
   if (fd >= 0) close(fd);  // the mappings keep the memory file
   if (!mapped) {
