@@ -17,6 +17,9 @@ double mj_min(double a, double b) {
   return a <= b ? a : b;
 }
 
+// The degrees of freedom of a contact's two bodies this file has room for: two free joints.
+constexpr int kMaxPairDofs = 12;
+
 bool sparse_jacobian(const mjModel* m) {
   return m->opt.jacobian == mjJAC_SPARSE || (m->opt.jacobian == mjJAC_AUTO && m->nv >= 60);
 }
@@ -24,9 +27,9 @@ bool sparse_jacobian(const mjModel* m) {
 // The rows a contact takes on the elliptic cone, or 0 where this file cannot build them.
 int contact_rows(const mjModel* m, const mjContact& c) {
   if (c.dim != 1 && c.dim != 3) return 0;  // torsional and rolling friction need angular rows
-  if (!m->body_simple[m->geom_bodyid[c.geom1]] || !m->body_simple[m->geom_bodyid[c.geom2]]) {
-    return 0;
-  }
+  const int b1 = m->geom_bodyid[c.geom1], b2 = m->geom_bodyid[c.geom2];
+  if (!m->body_simple[b1] || !m->body_simple[b2]) return 0;
+  if (m->body_dofnum[b1] + m->body_dofnum[b2] > kMaxPairDofs) return 0;
   if ((c.solref[0] > 0) != (c.solref[1] > 0)) return 0;  // MuJoCo warns and replaces it
   return c.dim;
 }
@@ -140,7 +143,7 @@ void add_contact(const mjModel* m, mjData* d, int id) {
     return;
   }
   // jacdif (3 x nv), then rotated into the contact's frame.
-  double jacdif[3 * 12], jac[3 * 12];
+  double jacdif[3 * kMaxPairDofs], jac[3 * kMaxPairDofs];
   body_jacobian(m, d, jacdif, c.pos, b1, false, nv, b1 < b2 ? 0 : m->body_dofnum[b2]);
   body_jacobian(m, d, jacdif, c.pos, b2, true, nv, b2 < b1 ? 0 : m->body_dofnum[b1]);
   const int rows = c.dim;  // 1 or 3 (contact_rows)

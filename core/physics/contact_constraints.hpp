@@ -20,8 +20,9 @@ bool contact_constraints_apply(const mjModel* m);
 /// efc_margin, efc_frictionloss, efc_type, efc_id, efc_diagApprox, efc_R, efc_D, efc_KBIP, each
 /// contact's efc_address, exclude and mu, maxuse_con and maxuse_efc), with the same floating-point
 /// operations in the same order, but not efc_JT and its supernodes. Returns false, having changed
-/// nothing, where a contact is not between simple bodies, has more than three dimensions or a
-/// mixed solref, or the rows would overflow njmax: then call mj_makeConstraint (which warns).
+/// nothing, where a contact is not between simple bodies (of 12 degrees of freedom at most
+/// together), has more than three dimensions or a mixed solref, or the rows would overflow njmax:
+/// then call mj_makeConstraint (which warns).
 bool make_contact_constraints(const mjModel* m, mjData* d);
 
 }  // namespace pb
