@@ -147,15 +147,12 @@ void add_contact(const mjModel* m, mjData* d, int id) {
   body_jacobian(m, d, jacdif, c.pos, b1, false, nv, b1 < b2 ? 0 : m->body_dofnum[b2]);
   body_jacobian(m, d, jacdif, c.pos, b2, true, nv, b2 < b1 ? 0 : m->body_dofnum[b1]);
   const int rows = c.dim;  // 1 or 3 (contact_rows)
-  switch (nv) {            // two free bodies; a free body on the belt's slide; on the world
+  switch (nv) {  // two free bodies (items, an item on the pallet); the pallet on the belt's slides
     case 12:
       rotate<12>(jacdif, c.frame, rows, 12, jac);
       break;
-    case 7:
-      rotate<7>(jacdif, c.frame, rows, 7, jac);
-      break;
-    case 6:
-      rotate<6>(jacdif, c.frame, rows, 6, jac);
+    case 8:
+      rotate<8>(jacdif, c.frame, rows, 8, jac);
       break;
     default:
       rotate<0>(jacdif, c.frame, rows, nv, jac);
