@@ -8,15 +8,6 @@ namespace pb {
 
 namespace {
 
-// MuJoCo's mju_max and mju_min (engine_util_misc.c): the same comparisons, so the same result
-// where an argument is a NaN.
-double mj_max(double a, double b) {
-  return a >= b ? a : b;
-}
-double mj_min(double a, double b) {
-  return a <= b ? a : b;
-}
-
 // The degrees of freedom of a contact's two bodies this file has room for: two free joints.
 constexpr int kMaxPairDofs = 12;
 
@@ -44,9 +35,8 @@ void body_jacobian(const mjModel* m, const mjData* d, double* jac, const double 
   const double offset[3] = {point[0] - com[0], point[1] - com[1], point[2] - com[2]};
   for (int k = 0; k < n; ++k) {
     const double* cdof = d->cdof + 6 * (m->body_dofadr[body] + k);
-    const double tmp[3] = {cdof[1] * offset[2] - cdof[2] * offset[1],
-                           cdof[2] * offset[0] - cdof[0] * offset[2],
-                           cdof[0] * offset[1] - cdof[1] * offset[0]};
+    double tmp[3];
+    mju_cross(tmp, cdof, offset);
     for (int r = 0; r < 3; ++r) {
       const double v = cdof[3 + r] + tmp[r];
       jac[start + k + r * nv] = second ? v : -v;
@@ -102,13 +92,13 @@ void contact_solparam(const mjModel* m, const mjContact& c, double solref[mjNREF
   for (int k = 0; k < mjNREF; ++k) solref[k] = c.solref[k];
   for (int k = 0; k < mjNIMP; ++k) solimp[k] = c.solimp[k];
   if (!mjDISABLED(mjDSBL_REFSAFE) && solref[0] > 0) {
-    solref[0] = mj_max(solref[0], 2 * m->opt.timestep);
+    solref[0] = mju_max(solref[0], 2 * m->opt.timestep);
   }
-  solimp[0] = mj_min(mjMAXIMP, mj_max(mjMINIMP, solimp[0]));
-  solimp[1] = mj_min(mjMAXIMP, mj_max(mjMINIMP, solimp[1]));
-  solimp[2] = mj_max(0, solimp[2]);
-  solimp[3] = mj_min(mjMAXIMP, mj_max(mjMINIMP, solimp[3]));
-  solimp[4] = mj_max(1, solimp[4]);
+  solimp[0] = mju_min(mjMAXIMP, mju_max(mjMINIMP, solimp[0]));
+  solimp[1] = mju_min(mjMAXIMP, mju_max(mjMINIMP, solimp[1]));
+  solimp[2] = mju_max(0, solimp[2]);
+  solimp[3] = mju_min(mjMAXIMP, mju_max(mjMINIMP, solimp[3]));
+  solimp[4] = mju_max(1, solimp[4]);
 }
 
 // MuJoCo's mju_mulMatMat(jac, frame, jacdif, rows, 3, nv): each row of `jac` the sum, in k's
@@ -183,14 +173,14 @@ void add_contact(const mjModel* m, mjData* d, int id) {
   contact_solparam(m, c, solref, solimp);
   impedance(solimp, d->efc_pos[first], d->efc_margin[first], imp, imp_p);
   const double k_normal = solref[0] > 0
-                              ? 1 / mj_max(mjMINVAL, solimp[1] * solimp[1] * solref[0] * solref[0] *
-                                                         solref[1] * solref[1])
-                              : -solref[0] / mj_max(mjMINVAL, solimp[1] * solimp[1]);
-  const double b = solref[1] > 0 ? 2 / mj_max(mjMINVAL, solimp[1] * solref[0])
-                                 : -solref[1] / mj_max(mjMINVAL, solimp[1]);
+                              ? 1 / mju_max(mjMINVAL, solimp[1] * solimp[1] * solref[0] *
+                                                          solref[0] * solref[1] * solref[1])
+                              : -solref[0] / mju_max(mjMINVAL, solimp[1] * solimp[1]);
+  const double b = solref[1] > 0 ? 2 / mju_max(mjMINVAL, solimp[1] * solref[0])
+                                 : -solref[1] / mju_max(mjMINVAL, solimp[1]);
   for (int r = 0; r < rows; ++r) {
     const int row = first + r;
-    d->efc_R[row] = mj_max(mjMINVAL, (1 - imp) * d->efc_diagApprox[row] / imp);
+    d->efc_R[row] = mju_max(mjMINVAL, (1 - imp) * d->efc_diagApprox[row] / imp);
     double* kbip = d->efc_KBIP + 4 * row;
     kbip[0] = type == mjCNSTR_CONTACT_ELLIPTIC && r > 0 ? 0 : k_normal;
     kbip[1] = b;
@@ -249,11 +239,10 @@ bool make_contact_constraints(const mjModel* m, mjData* d) {
   // mju_superSparse of J: how many following rows share each row's columns.
   int* super = d->efc_J_rowsuper;
   for (int r = 0; r + 1 < nefc; ++r) {
-    bool same = d->efc_J_rownnz[r] == d->efc_J_rownnz[r + 1];
-    const int *a = d->efc_J_colind + d->efc_J_rowadr[r],
-              *b = d->efc_J_colind + d->efc_J_rowadr[r + 1];
-    for (int j = 0; same && j < d->efc_J_rownnz[r]; ++j) same = a[j] == b[j];
-    super[r] = same ? 1 : 0;
+    const int* a = d->efc_J_colind + d->efc_J_rowadr[r];
+    const int* b = d->efc_J_colind + d->efc_J_rowadr[r + 1];
+    super[r] =
+        d->efc_J_rownnz[r] == d->efc_J_rownnz[r + 1] && std::equal(a, a + d->efc_J_rownnz[r], b);
   }
   super[nefc - 1] = 0;
   for (int r = nefc - 2; r >= 0; --r) {
@@ -265,7 +254,7 @@ bool make_contact_constraints(const mjModel* m, mjData* d) {
   for (int i = 0; i < nefc; ++i) {
     if (d->efc_type[i] != mjCNSTR_CONTACT_ELLIPTIC) continue;
     mjContact& c = d->contact[d->efc_id[i]];
-    R[i + 1] = R[i] / mj_max(mjMINVAL, m->opt.impratio);
+    R[i + 1] = R[i] / mju_max(mjMINVAL, m->opt.impratio);
     c.mu = c.friction[0] * std::sqrt(R[i + 1] / R[i]);
     for (int j = 1; j < c.dim - 1; ++j) {
       R[i + j + 1] = R[i + 1] * c.friction[0] * c.friction[0] / (c.friction[j] * c.friction[j]);
