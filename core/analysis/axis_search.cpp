@@ -125,6 +125,7 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   const double first = std::clamp(seed, min_, max_);
   auto r = test(first);
   if (!r) return std::nullopt;
+  const double seed_ratio = last_ratio;
   // Where the seed sits just above the load's weakest onset (vouch_), a safe seed that came
   // near failing (kNearFailure) does not vouch for what lies below it: the load is in the band
   // where its fate can hang on round-off, and nothing below the seed was probed. So the search
@@ -174,7 +175,10 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
   } else if (*r) {  // failed: walk down
     if (!walk_down()) return std::nullopt;
   } else {  // safe: walk up, one step at a time while the load comes near failing, else doubling
-    for (double x = first + step; !fail && x < max_; x = *safe + step) {
+    if (seed_ratio >= kAtFailure && first + 0.5 * precision_ < max_) {
+      if (!test(first + 0.5 * precision_)) return std::nullopt;
+    }
+    for (double x = *safe + step; !fail && x < max_; x = *safe + step) {
       if (!test(x)) return std::nullopt;
       step = step == precision_ && last_ratio >= kNearFailure ? precision_ : 2.0 * step;
     }

@@ -31,6 +31,14 @@ constexpr double kEarlyFailure = 0.5;
 // A safe probe whose detectors came this near their thresholds (SimResult::peak_ratio) is likely
 // within a step or two of the limit: the walk up keeps its step there instead of doubling.
 constexpr double kNearFailure = 0.5;
+
+// A safe probe whose detectors came this near their thresholds is taken to fail half a step
+// above it: a detector's measure there (a slide's length, a tilt) grows with the demand, and
+// within 1 % of its threshold half a step more crosses it (a pallet slipping through a start-up
+// to 2 m/s on a belt of mu_d 0.28: +1.5 % at 4.6 m/s^2, more lower down). So the walk up from such
+// a probe tries the half step first, which closes the bracket at once where it fails, and walks
+// on from there where it holds.
+constexpr double kAtFailure = 0.99;
 // One axis: probe near the seed, step outwards until the boundary is bracketed, then bisect while
 // the bracket is wider than half the precision (finest()). Down from a failing
 // seed the steps are three of the precision, then doubling (a seed just above the weakest onset
@@ -38,14 +46,14 @@ constexpr double kNearFailure = 0.5;
 // (ProbeVerdict::failed_at < kEarlyFailure) starts the doubling at once and the next late one
 // returns to single steps; up from a safe one, one step at a time while the last
 // probe came near failing (kNearFailure), else doubling (a pallet that must slip 0.3 m can be ten
-// steps above its onset). Every walk's steps are the precision times powers of two, so the
-// bisection grid, and the limit when failure is monotone, do not depend on the walk. Failure is
-// assumed monotone along the axis, except for a load whose items can move (`vouch`, run()): just
-// below a seed at its weakest onset that came near failing, and, where asked (`band_checks`), one
-// step below its answer. With a batch function and k > 1 the bracket is narrowed by k-section
-// instead: each round probes k points of the bisection grid of the bracket at once (one batched
-// call), so rounds drop from log2 n to log_{k+1} n; the walk that brackets the boundary takes its
-// next k points per round.
+// steps above its onset), and half a step first from one at the point of failing (kAtFailure).
+// Every walk's steps are the precision times powers of two, so the bisection grid, and the limit
+// when failure is monotone, do not depend on the walk. Failure is assumed monotone along the axis,
+// except for a load whose items can move (`vouch`, run()): just below a seed at its weakest onset
+// that came near failing, and, where asked (`band_checks`), one step below its answer. With a batch
+// function and k > 1 the bracket is narrowed by k-section instead: each round probes k points of
+// the bisection grid of the bracket at once (one batched call), so rounds drop from log2 n to
+// log_{k+1} n; the walk that brackets the boundary takes its next k points per round.
 class AxisSearch {
  public:
   using ProbeFn = std::function<std::optional<ProbeVerdict>(double)>;  // nullopt: unstable

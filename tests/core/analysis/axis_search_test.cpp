@@ -75,6 +75,31 @@ class AxisSearchTest : public QObject {
     QCOMPARE(checking.probed[1], 0.298 - kStep);  // the check below the seed
   }
 
+  // A safe seed within 1 % of failing (kAtFailure) tries half a step above first: where that
+  // fails the bracket is closed in two probes; where it holds the walk goes on from it, to the
+  // limit a seed far from failing finds on the same grid.
+  void aSeedAtThePointOfFailingTriesHalfAStepAbove() {
+    MadeUp closing{[](double x) { return x >= 0.3; }, 0.2, 0.3, {}};
+    auto closed = AxisSearch(kLo, kHi, kStep, closing.fn()).run(0.2995);
+    QVERIFY(closed && std::abs(closed->limit - 0.2995) < 1e-12);
+    QCOMPARE(closing.probed, (std::vector<double>{0.2995, 0.2995 + 0.5 * kStep}));
+
+    MadeUp holding{[](double x) { return x >= 0.308; }, 0.2, 0.3, {}};
+    auto held = AxisSearch(kLo, kHi, kStep, holding.fn()).run(0.2995);
+    MadeUp calm{[](double x) { return x >= 0.308; }, 0.0, 10.0, {}};
+    auto far = AxisSearch(kLo, kHi, kStep, calm.fn()).run(0.2995);
+    QVERIFY(held && far);
+    QCOMPARE(holding.probed[1], 0.2995 + 0.5 * kStep);
+    QVERIFY(calm.probed[1] > 0.2995 + 0.9 * kStep);  // far from failing: a whole step or more
+    QCOMPARE(held->limit, far->limit);
+    QVERIFY2(held->limit < 0.308 && held->limit >= 0.308 - 0.5 * kStep - 1e-9,
+             std::to_string(held->limit).c_str());
+
+    MadeUp near{[](double x) { return x >= 0.3; }, 0.0, 0.3 / 0.95, {}};  // 0.95 at 0.2995
+    (void)AxisSearch(kLo, kHi, kStep, near.fn()).run(0.2995);
+    QCOMPARE(near.probed[1], 0.2995 + kStep);  // near failing (kNearFailure), not at it
+  }
+
   // The check goes down only while the safe probes stay near failing: one safe by a margin
   // (peak ratio below 0.5) ends it, and a seed that stayed far from failing is not checked.
   void theCheckStopsAtAProbeSafeByAMargin() {

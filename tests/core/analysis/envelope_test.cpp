@@ -770,6 +770,29 @@ class EnvelopeTest : public QObject {
         describe(bisected->accel));
   }
 
+  // A carried load's curve is seeded from its pallet's slide in the arc, a hair above 0.98 of the
+  // pallet's onset where its check runs: a seed within half a step above the check starts at it,
+  // so the check is the search's first probe (one simulation fewer), and every curve probe lies
+  // on the check's grid of half steps.
+  void aSeedJustAboveItsCheckStartsAtTheCheck() {
+    const test::ConstantMu grip{0.3, 0.6, 0.7, 0.8};
+    auto s = settle(test::pallet({test::carton(0.2, 0, 0.15), test::carton(0.2, 0, 0.35)}), grip);
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_, SimOptions{});
+    QVERIFY2(env.ok(), env.ok() ? "" : env.diagnostics[0].message.c_str());
+    std::vector<double> curve;
+    for (const Probe& p : env->probes) {
+      if (p.axis == Axis::lateral && !p.confirmation) curve.push_back(p.value);
+    }
+    QVERIFY(curve.size() > 1);
+    QCOMPARE(env->lateral.mode, FailureMode::pallet_slip);
+    const double half = 0.5 * search_.lateral_precision_g;
+    for (double x : curve) {
+      const double steps = (x - curve[0]) / half;
+      QVERIFY2(std::abs(steps - std::round(steps)) < 1e-6, qPrintable(QString::number(x)));
+    }
+    QCOMPARE(std::count(curve.begin(), curve.end(), curve[0]), std::ptrdiff_t{1});
+  }
+
   // A check below the pallet's onset that holds but came near failing does not vouch for the band
   // above it: h3102 of the hold-out set (two columns of six cartons, each column tipping at 3.41
   // m/s^2, its pallet slipping at 3.40) holds at 0.98 of the pallet's onset with peak ratio 0.54
