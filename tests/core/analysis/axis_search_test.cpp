@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 using namespace pb;
@@ -30,6 +31,12 @@ struct MadeUp {
 };
 
 constexpr double kLo = 0.05, kHi = 0.5, kStep = 0.01;
+
+std::string describe(const std::vector<double>& probed) {
+  std::string out;
+  for (double x : probed) out += std::to_string(x) + " ";
+  return out;
+}
 
 }  // namespace
 
@@ -204,6 +211,31 @@ class AxisSearchTest : public QObject {
     const auto d = search(1.0, true, late_hastened);
     QVERIFY(c && d);
     QCOMPARE(late_hastened, late_fixed);
+  }
+
+  // A walk down whose next step would pass the floor takes the longest step that stays above
+  // it first: from a failure at 0.11 (steps of 0.04 by then) it probes 0.07, not the floor, and
+  // a load that holds there is bisected on a bracket of a power of two of the precision. A load
+  // that fails there too is probed at the floor next and answered there.
+  void aWalkDownStopsShortOfTheFloorOnce() {
+    auto at = [](const std::vector<double>& probed, double x) {
+      return std::any_of(probed.begin(), probed.end(),
+                         [x](double p) { return std::abs(p - x) < 1e-9; });
+    };
+    MadeUp holds{[](double x) { return x >= 0.075; }, 0.0, 10.0, {}};
+    auto limit = AxisSearch(kLo, kHi, kStep, holds.fn()).run(0.2);
+    QVERIFY(limit.has_value());
+    QVERIFY2(limit->limit >= 0.07 - 1e-9 && limit->limit < 0.075, describe(holds.probed).c_str());
+    QVERIFY2(at(holds.probed, 0.11) && at(holds.probed, 0.07) && !at(holds.probed, kLo),
+             describe(holds.probed).c_str());
+    QCOMPARE(int(holds.probed.size()), 10);  // with the floor first: 11
+
+    MadeUp never{[](double) { return true; }, 0.0, 10.0, {}};
+    auto floor = AxisSearch(kLo, kHi, kStep, never.fn()).run(0.2);
+    QVERIFY(floor && floor->at_floor);
+    QCOMPARE(never.probed.back(), kLo);
+    QVERIFY2(std::abs(never.probed[never.probed.size() - 2] - 0.07) < 1e-9,
+             describe(never.probed).c_str());
   }
 
   void aSeedAtTheFloorIsNotCheckedBelow() {
