@@ -101,8 +101,8 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     }
     // Where the next step would pass the floor, the longest step that stays above it is taken
     // once before the floor: a load that holds there is bracketed by a power of two of the
-    // precision (r10x8_1's curve: its walk failed down to 0.155 g, and the floor at 0.01 g left a
-    // bracket of 0.145 g to bisect in five probes; from 0.075 g, four).
+    // precision (an 80-carton random pallet's curve: its walk failed down to 0.155 g, and the
+    // floor at 0.01 g left a bracket of 0.145 g to bisect in five probes; from 0.075 g, four).
     while (!safe && n > 0 && *fail - walk_step(n) <= min_) --n;
     if (!safe && *fail - walk_step(n) > min_ && !test(*fail - walk_step(n))) return false;
     return safe || *fail <= min_ || test(min_).has_value();
