@@ -103,8 +103,11 @@ std::optional<AxisLimit> AxisSearch::run(double seed) {
     // once before the floor: a load that holds there is bracketed by a power of two of the
     // precision (an 80-carton random pallet's curve: its walk failed down to 0.155 g, and the
     // floor at 0.01 g left a bracket of 0.145 g to bisect in five probes; from 0.075 g, four).
-    while (!safe && n > 0 && *fail - walk_step(n) <= min_) --n;
-    if (!safe && *fail - walk_step(n) > min_ && !test(*fail - walk_step(n))) return false;
+    if (!safe) {
+      while (n > 0 && *fail - walk_step(n) <= min_) --n;
+      const double above = *fail - walk_step(n);
+      if (above > min_ && !test(above)) return false;
+    }
     return safe || *fail <= min_ || test(min_).has_value();
   };
   // Halve the bracket while it is wider than the precision; false when a probe was unstable.
