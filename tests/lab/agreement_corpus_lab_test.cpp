@@ -12,7 +12,7 @@
 // 17, sliding by explicit Coulomb friction); with MuJoCo's cone for sliding pairs (session 15):
 // 88 / 96, 0 above; with the softer contacts: 89 / 96, 1 above; with Coulomb friction and curves
 // that did not turn (session 14): 86 / 96, 1 above; before friction changed: 91 / 96, 0 above.
-// And the hold-out set, which the corpus's choices were not tuned on. Labelled long.
+// And two hold-out sets, which the corpus's choices were not tuned on. Labelled long.
 #include <QDir>
 #include <QDirIterator>
 #include <QJsonArray>
@@ -101,6 +101,15 @@ class AgreementCorpusLabTest : public QObject {
   void holdOutHasNoLimitAboveTheReference() {
     const QJsonObject def = default_against_references("unwrapped-holdout", {}, 21);
     check_agreement(def, 21, 0.97);
+  }
+  // A second hold-out set (docs/studies/unwrapped-holdout-2, session 42): 21 pallets drawn as the
+  // first was from seeds 4000-4051, judged once with nothing changed after. Pinned at that run's
+  // 80 of 84 limits (95.2 %) within one step and none above; the four misses are conservative
+  // (two start-ups and stops that fail in the band just above the pallet's slip onset: see its
+  // README).
+  void secondHoldOutHasNoLimitAboveTheReference() {
+    const QJsonObject def = default_against_references("unwrapped-holdout-2", {}, 21);
+    check_agreement(def, 21, 0.95);
   }
 };
 
