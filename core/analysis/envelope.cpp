@@ -348,8 +348,11 @@ Probe make_probe(Axis axis, double x, const SimResult& r, const PalletConfig& co
   p.projected = r.failure && r.failure->projected;
   if (r.failure && r.failure->items.size() == 1) {
     const auto item = static_cast<std::size_t>(r.failure->items[0]);
-    p.item_tipped =
-        item < config.items.size() && item_tipped(*r.failure, config.items[item].dims_m);
+    if (load_slid_as_one(*r.failure)) {
+      p.slide = SlideKind::load_as_one;
+    } else if (item < config.items.size() && item_tipped(*r.failure, config.items[item].dims_m)) {
+      p.slide = SlideKind::item_tipped;
+    }
   }
   return p;
 }
@@ -505,9 +508,9 @@ class Lookahead {
 
 // Runs one axis on `simulator` (serial probes) or, for k > 1, k probes a round in one batched call.
 // With `cores` (k = 1 only), probes run ahead on spare cores (Lookahead).
-// Whether the lowest failure above the outcome's limit (its mode is the limit's) was an item
-// tipping over, among the outcome's probes.
-void mark_item_tipped(AxisOutcome& out) {
+// How the lowest failure above the outcome's limit (its mode is the limit's) went, among the
+// outcome's probes: an item tipping over, the load sliding as one (Probe::slide).
+void mark_slide(AxisOutcome& out) {
   const Probe* above = nullptr;
   for (const Probe& p : out.probes) {
     if (p.outcome == Outcome::failed && p.value > out.limit->limit &&
@@ -515,7 +518,7 @@ void mark_item_tipped(AxisOutcome& out) {
       above = &p;
     }
   }
-  out.limit->item_tipped = above != nullptr && above->item_tipped;
+  out.limit->slide = above != nullptr ? above->slide : SlideKind::item_slid;
 }
 
 // How near the probe at `x` came to failing: by any detector, and by the load's own.
@@ -734,7 +737,7 @@ AxisOutcome search_axis(const AxisTask& t, Simulator& simulator, const RestState
   if (out.limit && confirming) out.limit->probes = int(out.probes.size());
   if (out.limit) {
     out.limit->closed_form = t.closed_form;
-    mark_item_tipped(out);
+    mark_slide(out);
   }
   return out;
 }
@@ -861,7 +864,7 @@ AxisOutcome guard_below_belt_onset(const AxisTask& t, AxisOutcome a, const Run& 
   if (a.limit) {
     a.limit->closed_form = above.closed_form;
     a.limit->probes = above.probes + int(a.probes.size() - first);
-    mark_item_tipped(a);
+    mark_slide(a);
   }
   return a;
 }
@@ -910,7 +913,7 @@ AxisOutcome checked_below_belt_onset(const AxisTask& t, bool seeded, const Run& 
   continue_with(a, run(then));
   if (a.limit) {
     a.limit->probes += checked;
-    mark_item_tipped(a);
+    mark_slide(a);
   }
   return a;
 }
@@ -1479,11 +1482,11 @@ namespace {
 
 // What fails above a limit: mode_words, and for the pallet's slip the allowance it slid past (a
 // pallet may slip a little at a limit: the detector fails it only past that slide).
-std::string failure_words(FailureMode mode, bool item_tipped, const DetectorThresholds& t) {
+std::string failure_words(FailureMode mode, SlideKind how, const DetectorThresholds& t) {
   if (mode == FailureMode::pallet_slip) {
     return "the pallet slides more than " + fixed(t.pallet_slip_m, 2) + " m on the belt";
   }
-  return std::string(mode_words(mode, item_tipped));
+  return std::string(mode_words(mode, how));
 }
 
 void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s,
@@ -1493,25 +1496,25 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   r.line_curve_radius_m = line.curve_radius_m;
   r.max_accel_mps2 = env.accel.limit;
   r.accel_mode = env.accel.mode;
-  r.accel_item_tipped = env.accel.item_tipped;
+  r.accel_item_tipped = env.accel.slide == SlideKind::item_tipped;
   r.max_decel_mps2 = env.decel.limit;
   r.decel_mode = env.decel.mode;
-  r.decel_item_tipped = env.decel.item_tipped;
+  r.decel_item_tipped = env.decel.slide == SlideKind::item_tipped;
   r.max_lateral_g = env.lateral.limit;
   r.lateral_mode = env.lateral.mode;
-  r.lateral_item_tipped = env.lateral.item_tipped;
+  r.lateral_item_tipped = env.lateral.slide == SlideKind::item_tipped;
   // The speed the curve allows: v^2 / r within the measured lateral limit.
   const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
   const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
   if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
     r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
     r.speed_mode = env.lateral.mode;
-    r.speed_item_tipped = env.lateral.item_tipped;
+    r.speed_item_tipped = env.lateral.slide == SlideKind::item_tipped;
     r.speed_governed_by = SpeedGovernor::curve;
   } else {
     r.max_speed_mps = stop_speed;
     r.speed_mode = env.speed.mode;
-    r.speed_item_tipped = env.speed.item_tipped;
+    r.speed_item_tipped = env.speed.slide == SlideKind::item_tipped;
     r.speed_governed_by = env.speed.at_ceiling ? SpeedGovernor::ceiling : SpeedGovernor::estop;
   }
   r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
@@ -1550,7 +1553,7 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.margin_pct = 0.0;
     r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
                floor_axis->name + " tried (" +
-               failure_words(floor_axis->axis->mode, floor_axis->axis->item_tipped, thresholds) +
+               failure_words(floor_axis->axis->mode, floor_axis->axis->slide, thresholds) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {
     r.verdict = Verdict::ok;
@@ -1562,7 +1565,7 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     // line's, after them. Each axis says what fails above it.
     auto above = [&](const AxisLimit& a) {
       if (a.at_ceiling) return std::string("the top of the range");
-      std::string words = "above it, " + failure_words(a.mode, a.item_tipped, thresholds);
+      std::string words = "above it, " + failure_words(a.mode, a.slide, thresholds);
       if (a.loose_at_entry) words += " once the load's sway at the curve's entry breaks it loose";
       return words;
     };

@@ -122,7 +122,8 @@ struct Probe {
   double load_peak_ratio = 0.0;  ///< SimResult::load_peak_ratio: as near, its pallet's slip aside
   bool confirmation = false;     ///< the run that confirms a limit (SearchConfig::confirm_limits)
   CurveTurn turn = CurveTurn::left;  ///< lateral: the way the curve turned
-  bool item_tipped = false;          ///< a top_item_slide whose item tipped (detectors.hpp)
+  /// A top_item_slide's way (detectors.hpp): an item slid or tipped, or the load slid as one.
+  SlideKind slide = SlideKind::item_slid;
   bool projected = false;  ///< a pallet slip decided before its threshold (FailureEvent::projected)
 };
 
@@ -142,9 +143,10 @@ struct AxisLimit {
   /// across the belt is searched in a left turn and then checked, and searched lower if need be,
   /// in a right one (search_envelope); the limit is the lower.
   CurveTurn turn = CurveTurn::left;
-  /// A top_item_slide above the limit whose item tipped rather than slid (item_tipped): the
-  /// reason says "an item tips over".
-  bool item_tipped = false;
+  /// How the top_item_slide above the limit went (detectors.hpp): an item tipped rather than
+  /// slid, and the reason says "an item tips over", or the load slid on its pallet as one
+  /// ("the load slides on its pallet").
+  SlideKind slide = SlideKind::item_slid;
   /// Lateral, a wrapped load on the reduced level: held at the curve where a pallet broken loose
   /// at the arc's entry slides its allowance by the arc's end, which the rigid model cannot break
   /// loose there (search_envelope); the reason says so.

@@ -176,6 +176,21 @@ std::string explain_failure(const PalletConfig& config, const ConveyorProfile& p
         return name + moved + ": " + demand_phrase(profile, demand) + " is more than the " +
                std::string(to_string(config.wrap)) + " wrap holds; band it or run gentler.";
       }
+      if (load_slid_as_one(event)) {  // every carton with it: they left a pallet that held
+        const double local = felt(weakest_of(bounds, across, FailureMode::top_item_slide, -1,
+                                             Mechanism::item_slip_on_deck));
+        std::string s = "The whole load slid " + fixed(100.0 * event.value, 1) +
+                        " cm on its pallet" + when + ": ";
+        if (demand > 0.0) s += phrase(local) + " needs μ " + fixed(local / kGravity, 2) + ", ";
+        const double deck = cf.item_pallet.mu_s, belt = cf.belt_pallet.mu_s;
+        const int digits = fixed(deck, 2) == fixed(belt, 2) ? 3 : 2;  // h4022: 0.287 vs 0.289
+        s += cf.item_pallet_key + " has " + fixed(deck, digits) + at;
+        if (deck < belt) {
+          s += ", less than the " + fixed(belt, digits) +
+               " by which the pallet holds to its belt, so the load goes first";
+        }
+        return s + "; wrap the load to its pallet or lay an anti-slip sheet under it.";
+      }
       bool on_deck = false;
       if (item >= 0 && item < static_cast<int>(config.items.size())) {
         on_deck = std::abs(config.items[static_cast<std::size_t>(item)].position[2] -

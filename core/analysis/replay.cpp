@@ -91,7 +91,10 @@ Json failure_to_json(const std::optional<FailureEvent>& failure) {
             {"time_s", failure->time_s},
             {"value", failure->value},
             {"items", failure->items}};
-  if (failure->mode == FailureMode::top_item_slide) j["item_tilt_deg"] = failure->item_tilt_deg;
+  if (failure->mode == FailureMode::top_item_slide) {
+    j["item_tilt_deg"] = failure->item_tilt_deg;
+    j["least_item_move_m"] = failure->least_item_move_m;
+  }
   return j;
 }
 
@@ -168,7 +171,8 @@ std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
                      "null or {\"mode\", \"time_s\", \"value\", \"items\"}")) {
     return std::nullopt;
   }
-  reader.unknown_keys(json, p, {"mode", "time_s", "value", "items", "item_tilt_deg"});
+  reader.unknown_keys(json, p,
+                      {"mode", "time_s", "value", "items", "item_tilt_deg", "least_item_move_m"});
   FailureEvent event;
   bool ok = true;
   if (const Json* mode = reader.member(json, p, "mode", Need::required)) {
@@ -185,6 +189,8 @@ std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
   ok = required(reader, json, p, "value", event.value) && ok;
   // Replays written before session 13 do not have it.
   ok = reader.field(json, p, "item_tilt_deg", event.item_tilt_deg, Need::optional) && ok;
+  // Nor before session 42 this.
+  ok = reader.field(json, p, "least_item_move_m", event.least_item_move_m, Need::optional) && ok;
   const std::string ip = at(p, "items");
   const Json* items = reader.member(json, p, "items", Need::required);
   if (items && reader.array(*items, ip, "the item indices", "[3, 7] or []")) {

@@ -63,8 +63,8 @@ Replay as_built_replay(const PalletConfig& pallet);
 ReplayFrame frame_at(const Replay& replay, double t);
 
 /// A failure as every JSON document carries it: null, or {"mode", "time_s", "value", "items"} and
-/// for a top_item_slide "item_tilt_deg" (result_json.hpp's failure_event_to_json adds a
-/// description).
+/// for a top_item_slide "item_tilt_deg" and "least_item_move_m" (result_json.hpp's
+/// failure_event_to_json adds a description).
 Json failure_to_json(const std::optional<FailureEvent>& failure);
 
 /// Writes "schema_version", "pallet", "profile", "outcome", "failure" (failure_to_json), "hz" and

@@ -85,7 +85,10 @@ Json probes_to_json(const std::vector<Probe>& probes) {
          {"confirmation", p.confirmation},
          {"wall_ms", p.wall_ms}}));
     if (p.axis == Axis::lateral) probe["turn"] = to_string(p.turn);
-    if (p.mode == FailureMode::top_item_slide) probe["item_tipped"] = p.item_tipped;
+    if (p.mode == FailureMode::top_item_slide) {
+      probe["item_tipped"] = p.slide == SlideKind::item_tipped;
+      if (p.slide == SlideKind::load_as_one) probe["load_as_one"] = true;
+    }
     if (p.projected) probe["projected"] = true;
   }
   return out;

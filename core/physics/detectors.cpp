@@ -14,6 +14,12 @@ double distance(const Vec3& a, const Vec3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 }
 
+// How far an item has moved in the pallet's frame since rest.
+double moved_on_pallet(const Pose& pallet0, const Pose& item0, const Pose& pallet,
+                       const Pose& item) {
+  return distance(to_frame(pallet, item.pos), to_frame(pallet0, item0.pos));
+}
+
 // How far an item has turned out of level relative to the pallet since rest (deg): the pallet's
 // up at rest, carried along by the item, as the pallet now sees it.
 double turned_out_of_level_deg(const Pose& pallet0, const Pose& item0, const Pose& pallet,
@@ -50,7 +56,7 @@ Measure load_shift(const std::vector<double>& rest, std::span<const Pose> items)
 }
 
 std::string format(const char* pattern, double a, double b = 0.0) {
-  char buffer[64];
+  char buffer[128];
   std::snprintf(buffer, sizeof buffer, pattern, a, b);
   return buffer;
 }
@@ -65,14 +71,22 @@ std::vector<int> items_of(const Measure& m) {
 
 }  // namespace
 
-std::string_view mode_words(FailureMode mode, bool item_tipped) {
+std::string_view mode_words(FailureMode mode, SlideKind how) {
   switch (mode) {
     case FailureMode::no_failure:
       return "nothing fails in range";
     case FailureMode::tip_over:
       return "the load tips over";
     case FailureMode::top_item_slide:
-      return item_tipped ? "an item tips over" : "an item slides off";
+      switch (how) {
+        case SlideKind::item_tipped:
+          return "an item tips over";
+        case SlideKind::load_as_one:
+          return "the load slides on its pallet";
+        case SlideKind::item_slid:
+          break;
+      }
+      return "an item slides off";
     case FailureMode::pallet_slip:
       return "the pallet slips on the belt";
     case FailureMode::load_shift:
@@ -92,6 +106,10 @@ std::string what_moved(const FailureEvent& event) {
       return format("the pallet tilted %.1f deg", event.value);
     case FailureMode::top_item_slide:
       if (event.items.size() != 1) break;
+      if (load_slid_as_one(event)) {
+        return format("the load moved %.1f cm on the pallet as one (every item at least %.1f cm)",
+                      event.value * 100.0, event.least_item_move_m * 100.0);
+      }
       return "item " + item(0) + format(" moved %.1f cm on the pallet", event.value * 100.0) +
              (event.item_tilt_deg >= 1.0
                   ? format(", turning %.1f deg out of level", event.item_tilt_deg)
@@ -114,6 +132,11 @@ std::string describe(const FailureEvent& event) {
          what_moved(event);
 }
 
+bool load_slid_as_one(const FailureEvent& event) {
+  return event.mode == FailureMode::top_item_slide && event.value > 0.0 &&
+         event.least_item_move_m >= kLoadAsOne * event.value;
+}
+
 bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m) {
   if (event.mode != FailureMode::top_item_slide) return false;
   const double half_diagonal = 0.5 * std::hypot(item_dims_m[0], item_dims_m[1], item_dims_m[2]);
@@ -129,7 +152,7 @@ Measure measure_item_slide(const Pose& pallet0, std::span<const Pose> items0, co
                            std::span<const Pose> items) {
   Measure out;
   for (std::size_t i = 0; i < items.size() && i < items0.size(); ++i) {
-    const double moved = distance(to_frame(pallet, items[i].pos), to_frame(pallet0, items0[i].pos));
+    const double moved = moved_on_pallet(pallet0, items0[i], pallet, items[i]);
     if (moved > out.value) out = {moved, static_cast<int>(i)};
   }
   return out;
@@ -188,6 +211,13 @@ std::optional<FailureEvent> FailureDetector::update(double t, const Trace::BeltS
   if (worst->mode == FailureMode::top_item_slide && worst->measure.a >= 0) {
     const auto i = static_cast<std::size_t>(worst->measure.a);
     event.item_tilt_deg = turned_out_of_level_deg(pallet0_, items0_[i], pallet, items[i]);
+    if (items.size() >= 2) {
+      double least = event.value;
+      for (std::size_t k = 0; k < items.size() && k < items0_.size(); ++k) {
+        least = std::min(least, moved_on_pallet(pallet0_, items0_[k], pallet, items[k]));
+      }
+      event.least_item_move_m = least;
+    }
   }
   return event;
 }

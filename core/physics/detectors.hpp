@@ -32,6 +32,10 @@ struct FailureEvent {
   /// top_item_slide: how far the item had turned out of level relative to the pallet since rest
   /// (deg), which tells a carton that tipped from one that slid flat (item_tipped).
   double item_tilt_deg = 0.0;
+  /// top_item_slide of a load of two or more items: the least any item had moved on the pallet
+  /// (m), which tells a load that slid on its pallet as one from an item that left it
+  /// (load_slid_as_one). 0 for a single item.
+  double least_item_move_m = 0.0;
   /// A pallet slip decided before it crossed its threshold, at `time_s`, when the slide could no
   /// longer stop short of it (SimOptions::project_pallet_slip); `value` is then the threshold.
   bool projected = false;
@@ -40,9 +44,11 @@ struct FailureEvent {
 };
 
 /// A failure mode in a supervisor's words ("the load tips over", "an item slides off"), never an
-/// identifier: what every panel and every sentence meant for a person says. `item_tipped`: a
-/// top_item_slide whose item tipped (item_tipped below), "an item tips over".
-std::string_view mode_words(FailureMode mode, bool item_tipped = false);
+/// identifier: what every panel and every sentence meant for a person says. For a
+/// top_item_slide, `how` says how it went (item_tipped, load_slid_as_one below): "an item tips
+/// over", "the load slides on its pallet".
+enum class SlideKind { item_slid, item_tipped, load_as_one };
+std::string_view mode_words(FailureMode mode, SlideKind how = SlideKind::item_slid);
 
 /// Whether a top_item_slide's item tipped rather than slid: its turn out of level, times half its
 /// diagonal (the farthest its centre can sit from the edge it pivots on), accounts for at least
@@ -51,6 +57,14 @@ std::string_view mode_words(FailureMode mode, bool item_tipped = false);
 /// The detectors' contract keeps the mode (the reference's tip_over is the pallet's tilt); this
 /// is how it is told.
 bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m);
+
+/// Whether a top_item_slide was the whole load sliding on its pallet as one: every item moved at
+/// least kLoadAsOne of the farthest's move. Cartons that grip their pallet less than the pallet
+/// grips its belt (h4022 in docs/studies/unwrapped-holdout-2) slide off a pallet that holds, all
+/// together; the remedy is what holds the load to its pallet (a wrap, an anti-slip sheet), not a
+/// restack. A column tipping as one is not: its bottom carton moves a fraction of its top's.
+inline constexpr double kLoadAsOne = 0.7;
+bool load_slid_as_one(const FailureEvent& event);
 
 /// What a failure event measured, without its mode or time: "item 7 moved 5.1 cm on the pallet".
 std::string what_moved(const FailureEvent& event);

@@ -573,8 +573,13 @@ bool ProbeRun::after_step(const mjModel& m, const mjData& d) {
     } else if (const auto crossing = o_.fail_fast && o_.project_pallet_slip
                                          ? slip_certain(m, d, t_next, readings.pallet_slip_m)
                                          : std::nullopt) {
-      r_.failure = FailureEvent{
-          FailureMode::pallet_slip, *crossing, o_.thresholds.pallet_slip_m, {}, 0.0, true};
+      r_.failure = FailureEvent{.mode = FailureMode::pallet_slip,
+                                .time_s = *crossing,
+                                .value = o_.thresholds.pallet_slip_m,
+                                .items = {},
+                                .item_tilt_deg = 0.0,
+                                .least_item_move_m = 0.0,
+                                .projected = true};
       r_.outcome = Outcome::failed;
       r_.peak_ratio = std::max(r_.peak_ratio, 1.0);
       finish(m, d);

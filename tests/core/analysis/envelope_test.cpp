@@ -235,7 +235,7 @@ class EnvelopeTest : public QObject {
       QVERIFY2(axis->limit <= ramp_threshold + 0.01 && axis->limit >= ramp_threshold - 0.1,
                describe(*axis));
       QCOMPARE(axis->mode, FailureMode::top_item_slide);
-      QVERIFY(!axis->item_tipped);  // it slides flat
+      QCOMPARE(axis->slide, SlideKind::item_slid);  // it slides flat
       QVERIFY(!axis->at_ceiling && !axis->at_floor);
       // Seeded just above mu g, the walk up in steps of 0.1 brackets the threshold one step wide
       // in 3 probes (seed, +0.1, +0.1 more) and one bisection halves that bracket: 4 (5 while
@@ -300,15 +300,15 @@ class EnvelopeTest : public QObject {
     QVERIFY2(env->accel.limit <= onset + 0.01 && env->accel.limit >= onset - 0.15,
              describe(env->accel));
     QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
-    QVERIFY(env->accel.item_tipped);
-    QVERIFY(env->lateral.item_tipped);
+    QCOMPARE(env->accel.slide, SlideKind::item_tipped);
+    QCOMPARE(env->lateral.slide, SlideKind::item_tipped);
     for (const Probe& p : env->probes) {
-      if (p.outcome == Outcome::failed) QVERIFY(p.item_tipped);
+      if (p.outcome == Outcome::failed) QCOMPARE(p.slide, SlideKind::item_tipped);
     }
     // The result says it for a machine too (its mode stays the contract's top_item_slide).
     QCOMPARE(env->result.accel_mode, FailureMode::top_item_slide);
     QVERIFY(env->result.accel_item_tipped);
-    QCOMPARE(env->result.decel_item_tipped, env->decel.item_tipped);
+    QCOMPARE(env->result.decel_item_tipped, env->decel.slide == SlideKind::item_tipped);
     QVERIFY(env->result.lateral_item_tipped);
     const std::string& why = env->result.reason;
     QVERIFY2(why.find("(above it, an item tips over;") != std::string::npos, why.c_str());
@@ -643,6 +643,29 @@ class EnvelopeTest : public QObject {
   // start-up search (no stop probes); searched on its own, the stop lands within one step of it
   // (a two-carton stack sliding on each other at mu g = 2.94 m/s^2: ramps of 2 / a s). A load off
   // the mirror plane is searched on every axis.
+  // Two cartons that grip each other (mu 0.4) better than the deck (0.3), on a pallet that cannot
+  // slip: above 2.94 m/s^2 they slide off the deck together. The mode stays the contract's
+  // top_item_slide; the limit and the reason say the load slid on its pallet as one.
+  void aStackSlidingOffTheDeckTogetherIsTheLoadSliding() {
+    auto s =
+        settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4});
+    auto env = search_envelope(*s->sim, s->rest, s->bounds, line_, search_);
+    QVERIFY(env.ok());
+    QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
+    QCOMPARE(env->accel.slide, SlideKind::load_as_one);
+    QVERIFY(!env->result.accel_item_tipped);
+    const std::string& why = env->result.reason;
+    QVERIFY2(why.find("above it, the load slides on its pallet") != std::string::npos, why.c_str());
+    int as_one = 0;
+    for (const Probe& p : env->probes) {
+      if (p.outcome == Outcome::failed && p.mode == FailureMode::top_item_slide) {
+        QCOMPARE(p.slide, SlideKind::load_as_one);
+        ++as_one;
+      }
+    }
+    QVERIFY(as_one > 0);
+  }
+
   void mirrorImageLoadTakesItsStopFromTheStartUp() {
     auto s =
         settle(test::pallet({test::carton(0, 0, 0.15), test::carton(0, 0, 0.35)}), {1.0, 0.3, 0.4});

@@ -150,6 +150,29 @@ class ExplainTest : public QObject {
     QVERIFY2(q(f).startsWith(QStringLiteral("Top item 1 slid 5.0 cm")), f.c_str());
   }
 
+  // Every carton moved with it (load_slid_as_one): the load left a pallet that held, so the deck
+  // pair is to blame, and what holds a load to its pallet is the remedy, not a restack.
+  void aLoadThatSlidAsOneBlamesTheDeckPair() {
+    const PalletConfig c = two_high();
+    const auto cf = FrictionModel::builtin().for_pallet(c);
+    FailureEvent e = failure(FailureMode::top_item_slide, {1}, 0.056);
+    e.least_item_move_m = 0.055;
+    const std::string s = explain_failure(c, startup(4.0), e);
+    QVERIFY2(q(s).startsWith(QStringLiteral("The whole load slid 5.6 cm on its pallet (0.41 s): "
+                                            "the start-up's 0.41 g needs μ 0.41, ")),
+             s.c_str());
+    QVERIFY2(q(s).contains(q(cf->item_pallet_key + " has " + fixed(cf->item_pallet.mu_s, 2))),
+             s.c_str());
+    QCOMPARE(q(s).contains(QStringLiteral("so the load goes first")),
+             cf->item_pallet.mu_s < cf->belt_pallet.mu_s);
+    QVERIFY2(q(s).endsWith(
+                 QStringLiteral("wrap the load to its pallet or lay an anti-slip sheet under it.")),
+             s.c_str());
+    // The top carton alone moved that far: its own pair is named, as before.
+    e.least_item_move_m = 0.01;
+    QVERIFY(q(explain_failure(c, startup(4.0), e)).startsWith(QStringLiteral("Top item 2 slid")));
+  }
+
   void bottomItemUsesTheDeckPair() {
     const PalletConfig c = two_high();
     const auto cf = FrictionModel::builtin().for_pallet(c);

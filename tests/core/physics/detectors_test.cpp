@@ -174,6 +174,71 @@ class DetectorsTest : public QObject {
     QVERIFY(!item_tipped(FailureEvent{FailureMode::tip_over, 0.5, 9.0, {}, 0.0}, {1, 1, 1}));
   }
 
+  // A top_item_slide says the least any item moved on the pallet, so a load that slid off its
+  // pallet as one (every carton with it: load_slid_as_one) is told from an item that left it and
+  // from a column leaning over as one, on a pallet that is itself yawed.
+  void aLoadThatSlidesAsOneIsToldFromAnItemAndFromALean() {
+    auto moved = [](const std::function<void(Motion&, int)>& move) {
+      return first_failure(make_trace(20,
+                                      [&](int f) {
+                                        Motion m{.x = 0.4, .yaw_deg = 20.0};
+                                        move(m, f);
+                                        return m;
+                                      }),
+                           {});
+    };
+    // Every item 1.1 cm a frame along the pallet's x, the top one 2 % further.
+    const auto as_one = moved([](Motion& m, int f) {
+      for (Vec3& item : m.items) item[0] += 0.011 * f;
+      m.items[2][0] += 0.00022 * f;
+    });
+    QVERIFY(as_one);
+    QCOMPARE(as_one->mode, FailureMode::top_item_slide);
+    QCOMPARE(as_one->items, std::vector<int>{2});
+    QVERIFY2(near(as_one->least_item_move_m, 0.055, 1e-9),
+             std::to_string(as_one->least_item_move_m).c_str());
+    QVERIFY(load_slid_as_one(*as_one));
+    QVERIFY2(describe(*as_one).find("the load moved 5.6 cm on the pallet as one (every item at "
+                                    "least 5.5 cm)") != std::string::npos,
+             describe(*as_one).c_str());
+    // The top item alone.
+    const auto top = first_failure(slide(0.011), {});
+    QVERIFY(top);
+    QVERIFY(near(top->least_item_move_m, 0.0, 1e-9));
+    QVERIFY(!load_slid_as_one(*top));
+    QVERIFY(describe(*top).find("item 2 moved") != std::string::npos);
+    // The load leaning over as one about the deck's edge at x = 0.6: a rigid turn about Y keeps
+    // every distance between items, but moves each by its distance from the edge (the nearest
+    // 0.36 m, the farthest 0.92 m).
+    const auto lean = moved([](Motion& m, int f) {
+      const double a = 0.02 * f;  // rad
+      for (Vec3& item : m.items) {
+        const double dx = item[0] - 0.6;
+        const double dz = item[2];
+        item[0] = 0.6 + std::cos(a) * dx + std::sin(a) * dz;
+        item[2] = -std::sin(a) * dx + std::cos(a) * dz;
+      }
+    });
+    QVERIFY(lean);
+    QCOMPARE(lean->mode, FailureMode::top_item_slide);
+    QVERIFY2(lean->least_item_move_m < 0.7 * lean->value, describe(*lean).c_str());
+    QVERIFY(!load_slid_as_one(*lean));
+    // One item is never a load moving as one.
+    const Pose pallet{{0.0, 0.0, kPalletZ}, {1, 0, 0, 0}};
+    const FailureDetector one({}, pallet, std::vector<Pose>{{{0.0, 0.0, 0.3}, {1, 0, 0, 0}}});
+    const auto alone = one.update(0.5, {0.0, 0.0, 0.0, 0.0}, pallet,
+                                  std::vector<Pose>{{{0.06, 0.0, 0.3}, {1, 0, 0, 0}}});
+    QVERIFY(alone);
+    QCOMPARE(alone->least_item_move_m, 0.0);
+    QVERIFY(!load_slid_as_one(*alone));
+    // Words for a person.
+    QCOMPARE(mode_words(FailureMode::top_item_slide), std::string_view("an item slides off"));
+    QCOMPARE(mode_words(FailureMode::top_item_slide, SlideKind::load_as_one),
+             std::string_view("the load slides on its pallet"));
+    QCOMPARE(mode_words(FailureMode::top_item_slide, SlideKind::item_tipped),
+             std::string_view("an item tips over"));
+  }
+
   void loadShift() {
     // 0.7 cm per frame: 1.4 cm at frame 2, 2.1 cm at frame 3 between items 0 and 1.
     const auto event = first_failure(shift(0.007), {});
