@@ -189,7 +189,7 @@ std::optional<FailureEvent> read_failure(JsonReader& reader, const Json& json,
   ok = required(reader, json, p, "value", event.value) && ok;
   // Replays written before session 13 do not have it.
   ok = reader.field(json, p, "item_tilt_deg", event.item_tilt_deg, Need::optional) && ok;
-  // Nor before session 42 this.
+  // Nor, before session 42, this one.
   ok = reader.field(json, p, "least_item_move_m", event.least_item_move_m, Need::optional) && ok;
   const std::string ip = at(p, "items");
   const Json* items = reader.member(json, p, "items", Need::required);
