@@ -346,14 +346,7 @@ Probe make_probe(Axis axis, double x, const SimResult& r, const PalletConfig& co
           r.peak_ratio};
   p.load_peak_ratio = r.load_peak_ratio;
   p.projected = r.failure && r.failure->projected;
-  if (r.failure && r.failure->items.size() == 1) {
-    const auto item = static_cast<std::size_t>(r.failure->items[0]);
-    if (load_slid_as_one(*r.failure)) {
-      p.slide = SlideKind::load_as_one;
-    } else if (item < config.items.size() && item_tipped(*r.failure, config.items[item].dims_m)) {
-      p.slide = SlideKind::item_tipped;
-    }
-  }
+  if (r.failure) p.slide = slide_kind(*r.failure, config);
   return p;
 }
 
@@ -1497,12 +1490,15 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   r.max_accel_mps2 = env.accel.limit;
   r.accel_mode = env.accel.mode;
   r.accel_item_tipped = env.accel.slide == SlideKind::item_tipped;
+  r.accel_load_as_one = env.accel.slide == SlideKind::load_as_one;
   r.max_decel_mps2 = env.decel.limit;
   r.decel_mode = env.decel.mode;
   r.decel_item_tipped = env.decel.slide == SlideKind::item_tipped;
+  r.decel_load_as_one = env.decel.slide == SlideKind::load_as_one;
   r.max_lateral_g = env.lateral.limit;
   r.lateral_mode = env.lateral.mode;
   r.lateral_item_tipped = env.lateral.slide == SlideKind::item_tipped;
+  r.lateral_load_as_one = env.lateral.slide == SlideKind::load_as_one;
   // The speed the curve allows: v^2 / r within the measured lateral limit.
   const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
   const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
@@ -1510,11 +1506,13 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
     r.speed_mode = env.lateral.mode;
     r.speed_item_tipped = env.lateral.slide == SlideKind::item_tipped;
+    r.speed_load_as_one = env.lateral.slide == SlideKind::load_as_one;
     r.speed_governed_by = SpeedGovernor::curve;
   } else {
     r.max_speed_mps = stop_speed;
     r.speed_mode = env.speed.mode;
     r.speed_item_tipped = env.speed.slide == SlideKind::item_tipped;
+    r.speed_load_as_one = env.speed.slide == SlideKind::load_as_one;
     r.speed_governed_by = env.speed.at_ceiling ? SpeedGovernor::ceiling : SpeedGovernor::estop;
   }
   r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
@@ -1535,8 +1533,13 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     if (t.margin < weakest->margin) weakest = &t;
   }
   r.margin_pct = 100.0 * weakest->margin;
-  r.dominant_failure_mode =
-      weakest->axis->at_ceiling ? FailureMode::no_failure : weakest->axis->mode;
+  // How the tightest axis fails (dominant_slide: item_slid where that is not a top_item_slide).
+  auto dominate = [&r](const AxisLimit& a) {
+    r.dominant_failure_mode = a.at_ceiling ? FailureMode::no_failure : a.mode;
+    r.dominant_slide =
+        r.dominant_failure_mode == FailureMode::top_item_slide ? a.slide : SlideKind::item_slid;
+  };
+  dominate(*weakest->axis);
 
   const Tight* floor_axis = nullptr;
   for (const auto& t : tight) {
@@ -1549,7 +1552,7 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
     r.verdict = Verdict::reject;
     r.speed_governed_by = SpeedGovernor::reject;
     r.max_speed_mps = 0.0;
-    r.dominant_failure_mode = floor_axis->axis->mode;
+    dominate(*floor_axis->axis);
     r.margin_pct = 0.0;
     r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
                floor_axis->name + " tried (" +

@@ -41,6 +41,10 @@ enum class Verdict { ok, reject };
 /// search range, a rejected pallet or a build defect (both 0). `unset` only in a result
 /// no analysis produced.
 enum class SpeedGovernor { unset, estop, curve, ceiling, reject, build_defect };
+/// How a top_item_slide (the reference's word for any item moving 5 cm on its pallet) went, as
+/// measured (core/physics/detectors.hpp: item_tipped, load_slid_as_one): an item slid flat, an
+/// item tipped over an edge, or the whole load slid on its pallet together. Ours.
+enum class SlideKind { item_slid, item_tipped, load_as_one };
 
 template <class E>
 struct EnumName {
@@ -140,6 +144,13 @@ struct EnumTable<SpeedGovernor> {
        {SpeedGovernor::ceiling, "ceiling"},
        {SpeedGovernor::reject, "reject"},
        {SpeedGovernor::build_defect, "build_defect"}}};
+};
+template <>
+struct EnumTable<SlideKind> {
+  static constexpr std::array<EnumName<SlideKind>, 3> names{
+      {{SlideKind::item_slid, "item_slid"},
+       {SlideKind::item_tipped, "item_tipped"},
+       {SlideKind::load_as_one, "load_as_one"}}};
 };
 
 /// The JSON name of a value.

@@ -149,6 +149,11 @@ struct SafetyResultFields {
     f("decel_item_tipped", result.decel_item_tipped, false);
     f("lateral_item_tipped", result.lateral_item_tipped, false);
     f("speed_item_tipped", result.speed_item_tipped, false);
+    f("accel_load_as_one", result.accel_load_as_one, false);
+    f("decel_load_as_one", result.decel_load_as_one, false);
+    f("lateral_load_as_one", result.lateral_load_as_one, false);
+    f("speed_load_as_one", result.speed_load_as_one, false);
+    f("dominant_slide", result.dominant_slide, false);
     f("speed_governed_by", result.speed_governed_by, false);
     f("verdict", result.verdict, false);
     f("reason", result.reason, false);

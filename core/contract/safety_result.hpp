@@ -39,6 +39,15 @@ struct SafetyResult {
   bool decel_item_tipped = false;
   bool lateral_item_tipped = false;
   bool speed_item_tipped = false;
+  /// Each axis's top_item_slide where the whole load slid on its pallet together (its cartons
+  /// grip the pallet less than the pallet grips its belt): "the load slides on its pallet".
+  bool accel_load_as_one = false;
+  bool decel_load_as_one = false;
+  bool lateral_load_as_one = false;
+  bool speed_load_as_one = false;
+  /// How the dominant_failure_mode went where it is a top_item_slide (the tightest axis's
+  /// *_item_tipped, *_load_as_one as one value); item_slid otherwise.
+  SlideKind dominant_slide = SlideKind::item_slid;
   SpeedGovernor speed_governed_by = SpeedGovernor::unset;
   Verdict verdict = Verdict::ok;       ///< reject: unsafe at any motion, or it cannot stand
   std::string reason;                  ///< one sentence a supervisor reads

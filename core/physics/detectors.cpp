@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/contract/pallet_config.hpp"
+
 namespace pb {
 
 namespace {
@@ -142,6 +144,18 @@ bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m) {
   const double half_diagonal = 0.5 * std::hypot(item_dims_m[0], item_dims_m[1], item_dims_m[2]);
   const double turned = event.item_tilt_deg * std::numbers::pi / 180.0;
   return turned * half_diagonal >= 0.5 * event.value;
+}
+
+SlideKind slide_kind(const FailureEvent& event, const PalletConfig& config) {
+  if (event.mode != FailureMode::top_item_slide || event.items.size() != 1) {
+    return SlideKind::item_slid;
+  }
+  if (load_slid_as_one(event)) return SlideKind::load_as_one;
+  const auto item = static_cast<std::size_t>(event.items[0]);
+  if (item < config.items.size() && item_tipped(event, config.items[item].dims_m)) {
+    return SlideKind::item_tipped;
+  }
+  return SlideKind::item_slid;
 }
 
 Measure measure_tilt(const Pose& pallet) {

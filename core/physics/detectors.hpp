@@ -15,6 +15,8 @@
 
 namespace pb {
 
+struct PalletConfig;
+
 struct DetectorThresholds {
   double tip_deg = 8.0;         ///< pallet tilt off vertical
   double item_slide_m = 0.05;   ///< any item's displacement in the pallet frame
@@ -45,9 +47,8 @@ struct FailureEvent {
 
 /// A failure mode in a supervisor's words ("the load tips over", "an item slides off"), never an
 /// identifier: what every panel and every sentence meant for a person says. For a
-/// top_item_slide, `how` says how it went (item_tipped, load_slid_as_one below): "an item tips
-/// over", "the load slides on its pallet".
-enum class SlideKind { item_slid, item_tipped, load_as_one };
+/// top_item_slide, `how` says how it went (slide_kind below): "an item tips over", "the load
+/// slides on its pallet".
 std::string_view mode_words(FailureMode mode, SlideKind how = SlideKind::item_slid);
 
 /// Whether a top_item_slide's item tipped rather than slid: its turn out of level, times half its
@@ -65,6 +66,11 @@ bool item_tipped(const FailureEvent& event, const Vec3& item_dims_m);
 /// restack. A column tipping as one is not: its bottom carton moves a fraction of its top's.
 inline constexpr double kLoadAsOne = 0.7;
 bool load_slid_as_one(const FailureEvent& event);
+
+/// How a failure event's top_item_slide went on `config`'s load: load_as_one (load_slid_as_one),
+/// item_tipped (item_tipped, with its item's dimensions) or item_slid; item_slid for any other
+/// mode.
+SlideKind slide_kind(const FailureEvent& event, const PalletConfig& config);
 
 /// What a failure event measured, without its mode or time: "item 7 moved 5.1 cm on the pallet".
 std::string what_moved(const FailureEvent& event);

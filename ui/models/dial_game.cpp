@@ -36,7 +36,7 @@ int percent(double fraction) {
 }  // namespace
 
 DialScore score_dispatch(const ConveyorProfile& dialled, bool survived, FailureMode mode,
-                         const SafetyResult& envelope) {
+                         const SafetyResult& envelope, SlideKind how) {
   DialScore s;
   s.speed_fraction = fraction_of(dialled.target_speed_mps, envelope.max_speed_mps);
   s.accel_fraction = fraction_of(dialled.accel_mps2, envelope.max_accel_mps2);
@@ -54,7 +54,8 @@ DialScore score_dispatch(const ConveyorProfile& dialled, bool survived, FailureM
     s.verdict = DialScore::Verdict::crashed;
     s.grade = 'F';
     s.failure_mode = mode;
-    s.headline = "The dispatch failed: " + std::string(mode_words(mode));
+    s.failure_slide = how;
+    s.headline = "The dispatch failed: " + std::string(mode_words(mode, how));
     return s;
   }
   s.points = percent(s.fraction);
@@ -83,10 +84,11 @@ void DialGame::setEnvelope(const SafetyResult& envelope) {
   if (dispatched()) envelope_ = envelope;
 }
 
-void DialGame::setOutcome(bool survived, FailureMode mode) {
+void DialGame::setOutcome(bool survived, FailureMode mode, SlideKind how) {
   if (!dispatched()) return;
   survived_ = survived;
   mode_ = survived ? FailureMode::no_failure : mode;
+  how_ = survived ? SlideKind::item_slid : how;
 }
 
 void DialGame::replayFinished() {
@@ -104,7 +106,7 @@ std::optional<SafetyResult> DialGame::envelope() const {
 
 std::optional<DialScore> DialGame::score() const {
   if (!revealed()) return std::nullopt;
-  return score_dispatch(*profile_, *survived_, mode_, *envelope_);
+  return score_dispatch(*profile_, *survived_, mode_, *envelope_, how_);
 }
 
 }  // namespace pb::ui

@@ -43,12 +43,14 @@ struct DialScore {
   int points = 0;               ///< round(100 * fraction) if survived, else 0
   char grade = 'C';             ///< S >= 95 %, A >= 85 %, B >= 60 %, C below, F crashed / reject
   FailureMode failure_mode = FailureMode::no_failure;  ///< what failed, when crashed
+  SlideKind failure_slide = SlideKind::item_slid;      ///< how, for a top_item_slide
   std::string headline;                                ///< "Dialed in: 91 % of the limit"
 };
 
-/// Scores a finished dispatch against the revealed envelope.
+/// Scores a finished dispatch against the revealed envelope; a failed one failed with `mode`
+/// (a top_item_slide as `how` says: detectors.hpp's slide_kind).
 DialScore score_dispatch(const ConveyorProfile& dialled, bool survived, FailureMode mode,
-                         const SafetyResult& envelope);
+                         const SafetyResult& envelope, SlideKind how = SlideKind::item_slid);
 
 /// One round of the game: dispatched, then the dispatch's outcome, the envelope and the end of the
 /// replay arrive in any order. The envelope (and the score) is revealed only when all three are in.
@@ -58,8 +60,10 @@ class DialGame {
   void dispatch(const ConveyorProfile& profile);
   /// The solver's envelope for the dispatched pallet (kept hidden until revealed()).
   void setEnvelope(const SafetyResult& envelope);
-  /// The dispatch's own run ended: survived, or failed with `mode`.
-  void setOutcome(bool survived, FailureMode mode = FailureMode::no_failure);
+  /// The dispatch's own run ended: survived, or failed with `mode` (a top_item_slide as `how`
+  /// says).
+  void setOutcome(bool survived, FailureMode mode = FailureMode::no_failure,
+                  SlideKind how = SlideKind::item_slid);
   /// The replay finished playing.
   void replayFinished();
 
@@ -76,6 +80,7 @@ class DialGame {
   std::optional<SafetyResult> envelope_;
   std::optional<bool> survived_;
   FailureMode mode_ = FailureMode::no_failure;
+  SlideKind how_ = SlideKind::item_slid;
   bool replay_done_ = false;
 };
 

@@ -229,8 +229,8 @@ void DialPanel::setEnvelope(const SafetyResult& envelope) {
   refresh();
 }
 
-void DialPanel::setOutcome(bool survived, FailureMode mode) {
-  _game.setOutcome(survived, mode);
+void DialPanel::setOutcome(bool survived, FailureMode mode, SlideKind how) {
+  _game.setOutcome(survived, mode, how);
   refresh();
 }
 

@@ -7,7 +7,7 @@
 //   dispatchRequested(profile)      -> AnalysisService::solve(pallet, profile) and, meanwhile,
 //                                      AnalysisService::analyze(pallet)
 //   AnalysisService::analyzed       -> setEnvelope(result)        (kept hidden)
-//   AnalysisService::solved         -> setOutcome(survived, mode) (and the replay starts)
+//   AnalysisService::solved         -> setOutcome(survived, mode, how) (and the replay starts)
 //   replay ended (ReplayControls)   -> replayFinished()           (reveals envelope + score)
 //   scoreRevealed(score)            -> status bar / results panel, if wanted
 //   dialsChanged(speed, accel)      -> ResultsPanel::setDialledPoint (the heatmap's marker)
@@ -96,8 +96,9 @@ class DialPanel : public QWidget {
   void dispatch();
   /// The solver's envelope for the pallet; hidden until the round is revealed.
   void setEnvelope(const pb::SafetyResult& envelope);
-  /// The dispatch ran: survived, or failed with `mode`.
-  void setOutcome(bool survived, pb::FailureMode mode);
+  /// The dispatch ran: survived, or failed with `mode` (a top_item_slide as `how` says).
+  void setOutcome(bool survived, pb::FailureMode mode,
+                  pb::SlideKind how = pb::SlideKind::item_slid);
   /// The replay of the dispatch ended: reveals the envelope and the score once all is in.
   void replayFinished();
   /// Same as replayFinished() (the name the task used).

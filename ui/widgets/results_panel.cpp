@@ -19,8 +19,8 @@ QString num(double v, int decimals) {
 }
 
 /// A failure mode in a supervisor's words (core/physics/detectors.hpp).
-QString modeWords(FailureMode mode) {
-  const std::string_view words = pb::mode_words(mode);
+QString modeWords(FailureMode mode, SlideKind how) {
+  const std::string_view words = pb::mode_words(mode, how);
   return QString::fromUtf8(words.data(), static_cast<qsizetype>(words.size()));
 }
 
@@ -166,7 +166,7 @@ void ResultsPanel::setResult(const SafetyResult& r) {
            "conveyor limit is given. Re-stack it and analyse again."));
   } else if (r.verdict == Verdict::reject) {
     _limits->setText(tr("No safe motion: <b>%1</b> even at the gentlest setting.")
-                         .arg(modeWords(r.dominant_failure_mode)));
+                         .arg(modeWords(r.dominant_failure_mode, r.dominant_slide)));
   } else {
     _limits->setText(
         tr("Speed up to <b>%1 m/s</b> (set by %2) · start-up up to <b>%3 m/s²</b> · stops "
@@ -175,7 +175,7 @@ void ResultsPanel::setResult(const SafetyResult& r) {
             .arg(num(r.max_speed_mps, 2),
                  QString::fromUtf8(pb::governor_words(r.speed_governed_by)),
                  num(r.max_accel_mps2, 1), num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
-                 modeWords(r.dominant_failure_mode), num(r.margin_pct, 0))
+                 modeWords(r.dominant_failure_mode, r.dominant_slide), num(r.margin_pct, 0))
             .arg(r.sims_run > 0 ? tr("%1 simulations").arg(r.sims_run)
                                 : tr("cached: this pallet was analysed before")));
   }

@@ -15,6 +15,7 @@
 #include <algorithm>
 
 #include "core/inputs/scenario.hpp"
+#include "core/physics/detectors.hpp"
 #include "ui/models/autosave.hpp"
 #include "ui/models/pallet_document.hpp"
 #include "ui/models/recent_files.hpp"
@@ -192,9 +193,11 @@ void MainWindow::wireAnalysis() {
     _replay->setReplay(solve->replay);
     _traces->setReplay(solve->replay);
     _results->setReplay(solve->replay);
-    _dials->setOutcome(solve->sim.outcome == pb::Outcome::safe, solve->replay.failure
-                                                                    ? solve->replay.failure->mode
-                                                                    : pb::FailureMode::no_failure);
+    const auto& failure = solve->replay.failure;
+    _dials->setOutcome(
+        solve->sim.outcome == pb::Outcome::safe,
+        failure ? failure->mode : pb::FailureMode::no_failure,
+        failure ? pb::slide_kind(*failure, solve->replay.pallet) : pb::SlideKind::item_slid);
     if (id == _solveId) {
       _solveDone = true;
       maybeFinishDispatch();

@@ -310,6 +310,8 @@ class EnvelopeTest : public QObject {
     QVERIFY(env->result.accel_item_tipped);
     QCOMPARE(env->result.decel_item_tipped, env->decel.slide == SlideKind::item_tipped);
     QVERIFY(env->result.lateral_item_tipped);
+    QCOMPARE(env->result.dominant_slide, SlideKind::item_tipped);
+    QVERIFY(!env->result.accel_load_as_one && !env->result.lateral_load_as_one);
     const std::string& why = env->result.reason;
     QVERIFY2(why.find("(above it, an item tips over;") != std::string::npos, why.c_str());
     // Each axis says what fails above it; only the closed-form level says it was not simulated.
@@ -654,6 +656,11 @@ class EnvelopeTest : public QObject {
     QCOMPARE(env->accel.mode, FailureMode::top_item_slide);
     QCOMPARE(env->accel.slide, SlideKind::load_as_one);
     QVERIFY(!env->result.accel_item_tipped);
+    // The result says so per axis, and for the governing mode.
+    QVERIFY(env->result.accel_load_as_one);
+    QCOMPARE(env->result.decel_load_as_one, env->decel.slide == SlideKind::load_as_one);
+    QCOMPARE(env->result.dominant_failure_mode, FailureMode::top_item_slide);
+    QCOMPARE(env->result.dominant_slide, SlideKind::load_as_one);
     const std::string& why = env->result.reason;
     QVERIFY2(why.find("above it, the load slides on its pallet") != std::string::npos, why.c_str());
     int as_one = 0;

@@ -16,7 +16,7 @@ SafetyResult sample() {
   r.max_accel_mps2 = 0.1 + 0.2;  // not exactly 0.3: the round trip must keep every bit
   r.max_decel_mps2 = 2.25;
   r.max_lateral_g = 0.31;
-  r.dominant_failure_mode = FailureMode::load_shift;
+  r.dominant_failure_mode = FailureMode::top_item_slide;
   r.margin_pct = 12.5;
   r.confidence = 0.8;
   r.sim_runtime_ms = 431.75;
@@ -26,7 +26,9 @@ SafetyResult sample() {
   r.decel_mode = FailureMode::top_item_slide;
   r.lateral_mode = FailureMode::pallet_slip;
   r.speed_mode = FailureMode::top_item_slide;
-  r.speed_item_tipped = true;  // an item tips over in the stop that sets the speed
+  r.speed_item_tipped = true;                 // an item tips over in the stop that sets the speed
+  r.decel_load_as_one = true;                 // the load slides on its pallet in a stop
+  r.dominant_slide = SlideKind::load_as_one;  // the stop is the tightest axis
   r.speed_governed_by = SpeedGovernor::estop;
   r.verdict = Verdict::ok;
   r.reason = "the top layer slides first in a stop";
@@ -47,14 +49,18 @@ class SafetyResultTest : public QObject {
     QStringList keys;
     for (const auto& [key, value] : json.items()) keys << QString::fromStdString(key);
     QCOMPARE(keys, (QStringList{"accel_item_tipped",
+                                "accel_load_as_one",
                                 "accel_mode",
                                 "confidence",
                                 "config_hash",
                                 "decel_item_tipped",
+                                "decel_load_as_one",
                                 "decel_mode",
                                 "dominant_failure_mode",
+                                "dominant_slide",
                                 "fidelity",
                                 "lateral_item_tipped",
+                                "lateral_load_as_one",
                                 "lateral_mode",
                                 "line_curve_radius_m",
                                 "line_estop_decel_mps2",
@@ -70,13 +76,16 @@ class SafetyResultTest : public QObject {
                                 "sims_run",
                                 "speed_governed_by",
                                 "speed_item_tipped",
+                                "speed_load_as_one",
                                 "speed_mode",
                                 "verdict"}));
     QCOMPARE(json["speed_item_tipped"], true);
     QCOMPARE(json["accel_item_tipped"], false);
+    QCOMPARE(json["decel_load_as_one"], true);
+    QCOMPARE(json["dominant_slide"].get<std::string>(), std::string("load_as_one"));
     QCOMPARE(json["accel_mode"].get<std::string>(), std::string("tip_over"));
     QCOMPARE(json["fidelity"].get<std::string>(), std::string("reduced"));
-    QCOMPARE(json["dominant_failure_mode"].get<std::string>(), std::string("load_shift"));
+    QCOMPARE(json["dominant_failure_mode"].get<std::string>(), std::string("top_item_slide"));
     QCOMPARE(json["schema_version"].get<int>(), kSchemaVersion);
     QCOMPARE(json["sims_run"].get<int>(), 17);
     QCOMPARE(json["max_accel_mps2"].get<double>(), 0.1 + 0.2);
@@ -93,11 +102,27 @@ class SafetyResultTest : public QObject {
 
   void readsAReferenceResultWithoutOurAdditions() {
     Json json = safety_result_to_json(sample());
-    for (const char* ours :
-         {"schema_version", "sims_run", "accel_mode", "decel_mode", "lateral_mode", "speed_mode",
-          "speed_governed_by", "verdict", "reason", "line_estop_decel_mps2", "line_curve_radius_m",
-          "fidelity", "accel_item_tipped", "decel_item_tipped", "lateral_item_tipped",
-          "speed_item_tipped"}) {
+    for (const char* ours : {"schema_version",
+                             "sims_run",
+                             "accel_mode",
+                             "decel_mode",
+                             "lateral_mode",
+                             "speed_mode",
+                             "speed_governed_by",
+                             "verdict",
+                             "reason",
+                             "line_estop_decel_mps2",
+                             "line_curve_radius_m",
+                             "fidelity",
+                             "accel_item_tipped",
+                             "decel_item_tipped",
+                             "lateral_item_tipped",
+                             "speed_item_tipped",
+                             "accel_load_as_one",
+                             "decel_load_as_one",
+                             "lateral_load_as_one",
+                             "speed_load_as_one",
+                             "dominant_slide"}) {
       json.erase(ours);
     }
     const auto read = safety_result_from_json(json);

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <vector>
 
+#include "core/contract/pallet_config.hpp"
+
 using namespace pb;
 
 namespace {
@@ -231,6 +233,14 @@ class DetectorsTest : public QObject {
     QVERIFY(alone);
     QCOMPARE(alone->least_item_move_m, 0.0);
     QVERIFY(!load_slid_as_one(*alone));
+    // slide_kind tells the three apart for a pallet's cartons, and is item_slid for any other mode.
+    PalletConfig config;
+    config.items.assign(3, Item{});
+    for (Item& item : config.items) item.dims_m = {0.4, 0.3, 0.2};
+    QCOMPARE(slide_kind(*as_one, config), SlideKind::load_as_one);
+    QCOMPARE(slide_kind(*top, config), SlideKind::item_slid);
+    QCOMPARE(slide_kind(FailureEvent{FailureMode::tip_over, 0.5, 9.0, {}, 0.0}, config),
+             SlideKind::item_slid);
     // Words for a person.
     QCOMPARE(mode_words(FailureMode::top_item_slide), std::string_view("an item slides off"));
     QCOMPARE(mode_words(FailureMode::top_item_slide, SlideKind::load_as_one),

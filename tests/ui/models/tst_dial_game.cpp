@@ -99,6 +99,22 @@ class TestDialGame : public QObject {
     QCOMPARE(s.headline, std::string("The dispatch failed: the load tips over"));
   }
 
+  // A top_item_slide says how it went: the whole load sliding on its pallet is not an item
+  // sliding off, and the round remembers it until the reveal.
+  void crashSaysHowTheSlideWent() {
+    const DialScore s = score_dispatch(dialled(1.9, 3.9), false, FailureMode::top_item_slide,
+                                       envelope(2.0, 4.0), SlideKind::load_as_one);
+    QCOMPARE(s.failure_slide, SlideKind::load_as_one);
+    QCOMPARE(s.headline, std::string("The dispatch failed: the load slides on its pallet"));
+    DialGame game;
+    game.dispatch(dialled(1.0, 1.0));
+    game.setOutcome(false, FailureMode::top_item_slide, SlideKind::item_tipped);
+    game.replayFinished();
+    game.setEnvelope(envelope(0.8, 0.9));
+    QVERIFY(game.revealed());
+    QCOMPARE(game.score()->headline, std::string("The dispatch failed: an item tips over"));
+  }
+
   void rejectScoresNothingEvenWhenItSurvived() {
     SafetyResult r = envelope(0.0, 0.0);
     r.verdict = Verdict::reject;
