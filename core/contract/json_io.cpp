@@ -314,7 +314,15 @@ Result<PalletConfig> pallet_from_json(const Json& json, const std::string& point
   if (const Json* items = reader.member(json, p, "items", Need::required)) {
     read_items(reader, *items, member_pointer(p, "items"), config.items);
   }
-  reader.field(json, p, "wrap", config.wrap);
+  // Required although the reference's example payloads always carry it: a load read as wrapped
+  // when it is not would be given a wrapped load's limits (a silent, unsafe answer).
+  if (json.contains("wrap")) {
+    reader.field(json, p, "wrap", config.wrap);
+  } else {
+    reader.error(member_pointer(p, "wrap"),
+                 "the required key 'wrap' is missing; add it: " + enum_choices<WrapType>() +
+                     " (an unwrapped load is never assumed wrapped)");
+  }
   reader.field(json, p, "env", config.env, Need::required);
   reader.field(json, p, "body_temp_c", config.body_temp_c, Need::required);
   reader.field(json, p, "seconds_since_temp_change", config.seconds_since_temp_change);

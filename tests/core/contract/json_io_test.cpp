@@ -43,7 +43,7 @@ PalletConfig sample() {
 
 // The smallest document a reader accepts.
 Json minimal() {
-  return Json{{"items", Json::array()}, {"env", "frozen"}, {"body_temp_c", -20}};
+  return Json{{"items", Json::array()}, {"wrap", "none"}, {"env", "frozen"}, {"body_temp_c", -20}};
 }
 
 QStringList keys_of(const Json& json) {
@@ -152,6 +152,7 @@ class JsonIoTest : public QObject {
     QVERIFY(read.ok());
     QVERIFY(read.diagnostics.empty());
     PalletConfig expected;
+    expected.wrap = WrapType::none;
     expected.env = Environment::frozen;
     expected.body_temp_c = -20.0;
     QVERIFY(*read == expected);
@@ -175,11 +176,15 @@ class JsonIoTest : public QObject {
   void requiredKeysAreErrors() {
     const auto read = pallet_from_json(Json::object({{"pallet_id", "x"}}), "/pallet");
     QVERIFY(!read.ok());
-    QCOMPARE(read.diagnostics.size(), std::size_t{3});
-    QCOMPARE(pointers(read.diagnostics), QString("/pallet/items /pallet/env /pallet/body_temp_c"));
+    QCOMPARE(read.diagnostics.size(), std::size_t{4});
+    QCOMPARE(pointers(read.diagnostics),
+             QString("/pallet/items /pallet/wrap /pallet/env /pallet/body_temp_c"));
     QVERIFY(contains(read.diagnostics[0].message, "'items'"));
-    QVERIFY(contains(read.diagnostics[1].message, "'env'"));
-    QVERIFY(contains(read.diagnostics[2].message, "'body_temp_c'"));
+    // A load is never assumed wrapped: the message lists what to write.
+    QVERIFY(contains(read.diagnostics[1].message, "'wrap'"));
+    QVERIFY(contains(read.diagnostics[1].message, enum_choices<WrapType>()));
+    QVERIFY(contains(read.diagnostics[2].message, "'env'"));
+    QVERIFY(contains(read.diagnostics[3].message, "'body_temp_c'"));
     for (const auto& d : read.diagnostics) QCOMPARE(d.severity, Severity::error);
   }
 
