@@ -1572,12 +1572,14 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
       if (a.loose_at_entry) words += " once the load's sway at the curve's entry breaks it loose";
       return words;
     };
-    why << "Start-up at up to " << fixed(r.max_accel_mps2, 1) << " m/s^2 (" << above(env.accel)
-        << "; " << (predicted ? "predicted, not simulated, for" : "measured") << " ramping to "
-        << fixed(s.speed_max_mps, 1) << " m/s); stops at up to " << fixed(r.max_decel_mps2, 1)
-        << " m/s^2 (from " << fixed(s.speed_max_mps, 1) << " m/s; " << above(env.decel)
-        << "); curves up to " << fixed(r.max_lateral_g, 2) << " g (" << above(env.lateral)
-        << "). Top speed " << fixed(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
+    // Limits are floored to their digits: "up to" never promises more than was measured.
+    why << "Start-up at up to " << fixed_floor(r.max_accel_mps2, 2) << " m/s^2 ("
+        << above(env.accel) << "; " << (predicted ? "predicted, not simulated, for" : "measured")
+        << " ramping to " << fixed(s.speed_max_mps, 1) << " m/s); stops at up to "
+        << fixed_floor(r.max_decel_mps2, 2) << " m/s^2 (from " << fixed(s.speed_max_mps, 1)
+        << " m/s; " << above(env.decel) << "); curves up to " << fixed_floor(r.max_lateral_g, 3)
+        << " g (on " << fixed(line.curve_radius_m, 1) << " m curves; " << above(env.lateral)
+        << "). Top speed " << fixed_floor(r.max_speed_mps, 2) << " m/s (" << governed << ", with a "
         << fixed(line.estop_decel_mps2, 1) << " m/s^2 e-stop and " << fixed(line.curve_radius_m, 1)
         << " m curves).";
     r.reason = why.str();

@@ -86,8 +86,8 @@ Grade grade(const SafetyResult& r) {
   const double worst = std::min(speed_ratio, accel_ratio);
   if (worst >= 1.5) {
     return {'A', "Faster than the table",
-            "Safe at " + fixed(r.max_speed_mps, 2) + " m/s: it can run faster than the fixed " +
-                fixed(kTableSpeedMps, 1) + " m/s."};
+            "Safe at " + fixed_floor(r.max_speed_mps, 2) +
+                " m/s: it can run faster than the fixed " + fixed(kTableSpeedMps, 1) + " m/s."};
   }
   if (worst >= 1.0) {
     return {'B', "Table speed",
@@ -95,8 +95,8 @@ Grade grade(const SafetyResult& r) {
                 fixed(kTableAccelMps2, 1) + " m/s² start-up."};
   }
   return {'C', "Slow zone",
-          "Keep it below " + fixed(r.max_speed_mps, 2) + " m/s and " + fixed(r.max_accel_mps2, 2) +
-              " m/s² start-up: slower than the table."};
+          "Keep it below " + fixed_floor(r.max_speed_mps, 2) + " m/s and " +
+              fixed_floor(r.max_accel_mps2, 2) + " m/s² start-up: slower than the table."};
 }
 
 double peak_demand_mps2(const ConveyorProfile& p) {

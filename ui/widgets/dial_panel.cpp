@@ -12,6 +12,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/base/text.hpp"
+
 namespace pb::ui {
 
 namespace {
@@ -277,7 +279,8 @@ void DialPanel::refresh() {
   _accelDial->setLimit(envelope->max_accel_mps2);
   const QString limits =
       tr("Solver's limits: %1 m/s, %2 m/s² start-up")
-          .arg(fmt(envelope->max_speed_mps, 2), fmt(envelope->max_accel_mps2, 2));
+          .arg(QString::fromStdString(pb::fixed_floor(envelope->max_speed_mps, 2)),
+               QString::fromStdString(pb::fixed_floor(envelope->max_accel_mps2, 2)));
   _limits->setText(limits);
   const DialScore score = *_game.score();
   // The dispatch's score, not the pallet's grade (the results panel grades the pallet against the

@@ -5,6 +5,7 @@
 #include <QVBoxLayout>
 
 #include "core/analysis/explain.hpp"
+#include "core/base/text.hpp"
 #include "ui/widgets/failure_map_view.hpp"
 
 namespace pb::ui {
@@ -16,6 +17,10 @@ QString q(const std::string& s) {
 }
 QString num(double v, int decimals) {
   return QString::number(v, 'f', decimals);
+}
+/// A limit, never shown above itself (core/base/text.hpp).
+QString limit(double v, int decimals) {
+  return QString::fromStdString(pb::fixed_floor(v, decimals));
 }
 
 /// A failure mode in a supervisor's words (core/physics/detectors.hpp).
@@ -129,7 +134,7 @@ void ResultsPanel::showProvisional() {
   }
   // Each limit simulated so far in bold, the others marked as the estimate.
   const auto value = [&](Axis axis, double v, int decimals, const QString& unit) {
-    const QString n = num(v, decimals) + QStringLiteral(" ") + unit;
+    const QString n = limit(v, decimals) + QStringLiteral(" ") + unit;
     return _simulated.contains(axis) ? QStringLiteral("<b>%1</b>").arg(n)
                                      : QStringLiteral("<i>\u2248%1</i>").arg(n);
   };
@@ -172,9 +177,9 @@ void ResultsPanel::setResult(const SafetyResult& r) {
         tr("Speed up to <b>%1 m/s</b> (set by %2) · start-up up to <b>%3 m/s²</b> · stops "
            "up to <b>%4 m/s²</b> · curves up to <b>%5 g</b><br>First to go: <b>%6</b> · margin "
            "%7 % · %8")
-            .arg(num(r.max_speed_mps, 2),
+            .arg(limit(r.max_speed_mps, 2),
                  QString::fromUtf8(pb::governor_words(r.speed_governed_by)),
-                 num(r.max_accel_mps2, 1), num(r.max_decel_mps2, 1), num(r.max_lateral_g, 2),
+                 limit(r.max_accel_mps2, 2), limit(r.max_decel_mps2, 2), limit(r.max_lateral_g, 3),
                  modeWords(r.dominant_failure_mode, r.dominant_slide), num(r.margin_pct, 0))
             .arg(r.sims_run > 0 ? tr("%1 simulations").arg(r.sims_run)
                                 : tr("cached: this pallet was analysed before")));

@@ -315,9 +315,13 @@ class EnvelopeTest : public QObject {
     const std::string& why = env->result.reason;
     QVERIFY2(why.find("(above it, an item tips over;") != std::string::npos, why.c_str());
     // Each axis says what fails above it; only the closed-form level says it was not simulated.
-    QVERIFY2(why.find("m/s; above it, an item tips over); curves up to 0.2") != std::string::npos,
-             why.c_str());
-    QVERIFY2(why.find("g (above it, an item tips over). Top speed") != std::string::npos,
+    // Limits are floored, never rounded up (1.962 m/s^2 reads 1.96, 0.195 g reads 0.195).
+    QVERIFY2(why.find("Start-up at up to 1.96 m/s^2") != std::string::npos, why.c_str());
+    QVERIFY2(
+        why.find("m/s; above it, an item tips over); curves up to 0.195 g (on 3.0 m curves;") !=
+            std::string::npos,
+        why.c_str());
+    QVERIFY2(why.find("m curves; above it, an item tips over). Top speed") != std::string::npos,
              why.c_str());
     QVERIFY(why.find("predicted") == std::string::npos);
     const Envelope predicted = closed_form_envelope(s->bounds, line_, search_, {});

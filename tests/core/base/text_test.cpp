@@ -16,6 +16,22 @@ class TextTest : public QObject {
     QCOMPARE(pb::fixed(123456789012.5, 1), std::string("123456789012.5"));
   }
 
+  // A limit is never shown above itself: "up to 1.2 m/s^2" for 1.168 or 1.25 is a promise the
+  // pallet does not keep. A sum's last-bit error under the digits does not drop a step.
+  void limitsAreFlooredNotRounded() {
+    QCOMPARE(pb::fixed_floor(1.168, 1), std::string("1.1"));
+    QCOMPARE(pb::fixed_floor(1.25 + 2e-16, 1), std::string("1.2"));
+    QCOMPARE(pb::fixed_floor(0.2265, 2), std::string("0.22"));
+    double sum = 0.0;
+    for (int i = 0; i < 13; ++i)
+      sum += 0.1;  // 1.3000000000000003, and 0.1 * 3 = 0.30000000000000004
+    QCOMPARE(pb::fixed_floor(sum, 1), std::string("1.3"));
+    QCOMPARE(pb::fixed_floor(1.2999999999999998, 1), std::string("1.3"));
+    QCOMPARE(pb::fixed_floor(0.0, 2), std::string("0.00"));
+    QCOMPARE(pb::fixed_floor(2.0, 2), std::string("2.00"));
+    QCOMPARE(pb::fixed_floor(1e300, 2), std::string("1e+300"));
+  }
+
   // A hostile 1e300 read as a temperature was shown as 63 digits cut off mid-number.
   void hugeNumbersAreScientific() {
     QCOMPARE(pb::fixed(1e300, 2), std::string("1e+300"));

@@ -41,7 +41,7 @@ class TestResultsPanel : public QObject {
     QVERIFY(panel.gradeText().contains(QStringLiteral("Faster than the table")));
     QVERIFY(panel.gradeText().contains(QStringLiteral(">A<")));
     QVERIFY(panel.limitsText().contains(QStringLiteral("1.85 m/s")));
-    QVERIFY(panel.limitsText().contains(QStringLiteral("3.4 m/s²")));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("3.40 m/s²")));
     QVERIFY(panel.limitsText().contains(QStringLiteral("set by the line's e-stop")));
     QVERIFY(panel.limitsText().contains(QStringLiteral("an item slides off")));
     QVERIFY(panel.limitsText().contains(QStringLiteral("17 simulations")));
@@ -51,6 +51,20 @@ class TestResultsPanel : public QObject {
   // A load that cannot stand: a build defect, no limit and no speed anywhere on the panel.
   // The provisional estimate is replaced limit by limit as each search ends: the simulated ones in
   // bold, the others marked as the estimate; the speed waits for the analysis, which ends it.
+  // A limit is never shown above itself, and the load sliding as one is said so.
+  void limitsAreFlooredAndSayHowTheSlideWent() {
+    ResultsPanel panel;
+    SafetyResult r = okResult();
+    r.max_accel_mps2 = 1.168;
+    r.max_lateral_g = 0.2265;
+    r.dominant_slide = SlideKind::load_as_one;
+    panel.setResult(r);
+    QVERIFY2(panel.limitsText().contains(QStringLiteral("start-up up to <b>1.16 m/s²</b>")),
+             qPrintable(panel.limitsText()));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("curves up to <b>0.226 g</b>")));
+    QVERIFY(panel.limitsText().contains(QStringLiteral("the load slides on its pallet")));
+  }
+
   void provisionalLimitsAreReplacedOneByOne() {
     ResultsPanel panel;
     SafetyResult estimate = okResult();
