@@ -1551,11 +1551,14 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   if (floor_axis != nullptr) {
     r.verdict = Verdict::reject;
     r.speed_governed_by = SpeedGovernor::reject;
-    r.max_speed_mps = 0.0;
+    // Unsafe at any motion: no limit of any axis holds (a curve limit beside a start-up that
+    // always fails would read as a way to run it).
+    r.max_speed_mps = r.max_accel_mps2 = r.max_decel_mps2 = r.max_lateral_g = 0.0;
     dominate(*floor_axis->axis);
     r.margin_pct = 0.0;
-    r.reason = std::string("Reject: unsafe at any motion; it fails at the gentlest ") +
-               floor_axis->name + " tried (" +
+    r.reason = std::string("Reject: unsafe at any motion; it ") +
+               (predicted ? "is predicted (closed form, not simulated) to fail" : "fails") +
+               " at the gentlest " + floor_axis->name + " tried (" +
                failure_words(floor_axis->axis->mode, floor_axis->axis->slide, thresholds) +
                "). Re-stack or re-wrap before it enters the conveyor.";
   } else {

@@ -399,12 +399,23 @@ class EnvelopeTest : public QObject {
     const SafetyResult& r = env->result;
     QCOMPARE(r.verdict, Verdict::reject);
     QCOMPARE(r.dominant_failure_mode, FailureMode::top_item_slide);
+    // Every limit is 0: no axis holds for a pallet that cannot start.
     QCOMPARE(r.max_speed_mps, 0.0);
+    QCOMPARE(r.max_accel_mps2, 0.0);
+    QCOMPARE(r.max_decel_mps2, 0.0);
+    QCOMPARE(r.max_lateral_g, 0.0);
     QCOMPARE(r.margin_pct, 0.0);
     QCOMPARE(r.speed_governed_by, SpeedGovernor::reject);
     QVERIFY2(r.reason.starts_with("Reject: unsafe at any motion; it fails at the gentlest start-up "
                                   "tried (an item slides off)."),
              r.reason.c_str());
+    // The closed-form level says its reject was predicted, with the same zeros.
+    const SafetyResult predicted = closed_form_envelope(s->bounds, line_, search_, {}).result;
+    QCOMPARE(predicted.verdict, Verdict::reject);
+    QCOMPARE(predicted.max_lateral_g, 0.0);
+    QVERIFY2(predicted.reason.starts_with("Reject: unsafe at any motion; it is predicted (closed "
+                                          "form, not simulated) to fail at the gentlest"),
+             predicted.reason.c_str());
     // Stopped from 0.1 m/s by the line's 2 m/s^2 e-stop, the carton slides
     // v^2 / 2 (1 / (mu g) - 1 / d) = 9.9 cm: the e-stop axis fails at its floor too.
     // Regression: a stop probe must follow the carton until it stops sliding (it slid 4.5 cm
