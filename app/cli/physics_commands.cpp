@@ -603,8 +603,10 @@ std::vector<Command> physics_commands() {
           "speculative_sims (probes run ahead on spare cores and not needed); every file's search "
           "is then run, repeated pallets included"},
          {"fidelity", "LEVEL",
-          enum_choices<Fidelity>() + ": the model that answers (default auto: the cheapest whose "
-                                     "agreement with the full model is established)"},
+          enum_choices<Fidelity>() +
+              ": the model that answers (default auto: the cheapest whose agreement with the "
+              "full model is established). closed_form is an estimate, not simulated, that can be "
+              "tenths above the simulated limits: auto never answers with it"},
          {"parallel-probes", "K",
           "probes per search round (k-section, batched on K threads; the same limits where "
           "failure is monotone in the demand, which a load that rocks near its limit need not "
