@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "core/inputs/random_pallet.hpp"
-#include "core/base/text.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "core/base/rng.hpp"
+#include "core/base/text.hpp"
 #include "core/contract/pallet_metrics.hpp"
 #include "core/contract/pallet_type.hpp"
 
@@ -119,6 +120,22 @@ double gross_mass_kg(const ScannerInputs& inputs, const Catalog& catalog) {
   return mass;
 }
 
+// The least the stack can stand above the floor: every column carries at least each layer's
+// shortest carton. Above the cap, a layer goes without laying anything out (forty layers asked of
+// a 1.85 m cap would otherwise be laid out past the validator's 10 m coordinates first).
+double least_stack_height_m(const ScannerInputs& inputs, const Catalog& catalog) {
+  double height = pallet_type_spec(inputs.base_pallet_type).dims_m[2];
+  for (int l = 0; l < inputs.layers; ++l) {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < inputs.items_per_layer; ++k) {
+      const auto& sku = inputs.skus[static_cast<std::size_t>(l * inputs.items_per_layer + k)];
+      shortest = std::min(shortest, catalog.find(sku)->dims_m[2]);
+    }
+    height += shortest;
+  }
+  return height;
+}
+
 // "homogeneous", "one SKU per layer" or "mixed", as the barcodes read.
 std::string homogeneity_of(const ScannerInputs& inputs) {
   const auto& skus = inputs.skus;
@@ -132,8 +149,13 @@ std::string homogeneity_of(const ScannerInputs& inputs) {
   return "one SKU per layer";
 }
 
+// Why the top layers went: each rule that took at least one.
+struct Trimmed {
+  bool mass = false, height = false, stand = false;
+};
+
 std::string notes_for(const RandomPalletOptions& options, const ScannerInputs& drawn,
-                      const ScannerInputs& built, bool trimmed_to_stand,
+                      const ScannerInputs& built, const Trimmed& trimmed,
                       const Diagnostics& layout_warnings) {
   std::string notes = "random seed " + std::to_string(options.seed) + ": " +
                       std::string(to_string(built.pattern)) + " " +
@@ -145,14 +167,22 @@ std::string notes_for(const RandomPalletOptions& options, const ScannerInputs& d
              fixed(drawn.top_overhang_m * 100.0, 1) + " cm";
   }
   if (built.items_per_layer < drawn.items_per_layer) {
-    notes += "; Ti reduced from " + std::to_string(drawn.items_per_layer) + " to fit the deck";
+    notes += "; " + std::to_string(drawn.items_per_layer) + " cartons a layer reduced to " +
+             std::to_string(built.items_per_layer) + " to fit the deck";
   }
   for (const Diagnostic& d : layout_warnings) {
     if (d.pointer == "/lean_angle_deg" || d.pointer == "/pattern") notes += "; " + d.message;
   }
   if (built.layers < drawn.layers) {
-    notes += "; trimmed from " + std::to_string(drawn.layers) + " layers for the mass and height " +
-             "caps" + (trimmed_to_stand ? " and so that every item stands" : "");
+    std::vector<std::string> why;
+    if (trimmed.mass) why.emplace_back("the mass cap");
+    if (trimmed.height) why.emplace_back("the height cap");
+    if (trimmed.stand) why.emplace_back("so that every item stands");
+    notes += "; trimmed from " + std::to_string(drawn.layers) + " layers for ";
+    for (std::size_t i = 0; i < why.size(); ++i) {
+      if (i > 0) notes += i + 1 == why.size() ? " and " : ", ";
+      notes += why[i];
+    }
   }
   return notes;
 }
@@ -250,10 +280,25 @@ Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Cat
 
   int layers = drawn.layers;
   int items_per_layer = drawn.items_per_layer;
-  bool trimmed_to_stand = false;
+  // First what fits the deck, on two layers (a brick's or pinwheel's alternate layer differs):
+  // the caps then trim layers of what is really laid (83 drawn a layer, 9 fit: five layers of 9
+  // are under the mass cap where five of 83 are not).
+  while (items_per_layer > 1) {
+    const auto fits =
+        build_from_scanner(cut(drawn, std::min(layers, 2), items_per_layer), catalog, uncapped);
+    if (fits || !only_fit_error(fits.diagnostics)) break;
+    --items_per_layer;
+  }
+  Trimmed trimmed;
   for (;;) {
     ScannerInputs attempt = cut(drawn, layers, items_per_layer);
     if (layers > 1 && gross_mass_kg(attempt, catalog) > mass_cap) {
+      trimmed.mass = true;
+      --layers;
+      continue;
+    }
+    if (layers > 1 && least_stack_height_m(attempt, catalog) > limits.max_stack_height_m) {
+      trimmed.height = true;
       --layers;
       continue;
     }
@@ -266,6 +311,7 @@ Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Cat
       return laid_out;
     }
     if (layers > 1 && stack_height_m(*laid_out) > limits.max_stack_height_m) {
+      trimmed.height = true;
       --layers;
       continue;
     }
@@ -278,12 +324,12 @@ Result<PalletConfig> random_pallet(const RandomPalletOptions& options, const Cat
       no_standing.check_standing = false;
       if (build_from_scanner(attempt, catalog, no_standing)) {
         --layers;
-        trimmed_to_stand = true;
+        trimmed.stand = true;
         continue;
       }
     }
     if (result) {
-      result->notes = notes_for(options, drawn, attempt, trimmed_to_stand, result.diagnostics);
+      result->notes = notes_for(options, drawn, attempt, trimmed, result.diagnostics);
     }
     return result;
   }

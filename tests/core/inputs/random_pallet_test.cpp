@@ -126,11 +126,13 @@ class RandomPalletTest : public QObject {
     pb::RandomPalletOptions anomalous = seeded(7);
     anomalous.anomaly_rate = 1.0;
     const auto leaning = make(anomalous);
-    QCOMPARE(leaning.notes,
-             std::string("random seed 7: brick 4x4 on CHEP, one SKU per layer, refrigerated; "
-                         "anomaly: lean 2.6 deg, top overhang 5.5 cm; Ti reduced from 10 to fit "
-                         "the deck; the alternate layers are not shifted: so laid, some cartons "
-                         "of the brick pattern would not stand on the layer below"));
+    QCOMPARE(
+        leaning.notes,
+        std::string(
+            "random seed 7: brick 4x4 on CHEP, one SKU per layer, refrigerated; "
+            "anomaly: lean 2.6 deg, top overhang 5.5 cm; 10 cartons a layer reduced "
+            "to 4 to fit the deck; the alternate layers are not shifted: so laid, some cartons "
+            "of the brick pattern would not stand on the layer below"));
     QCOMPARE(fingerprint(leaning), std::uint64_t{0xba14b8a685974890});
   }
 
@@ -152,10 +154,10 @@ class RandomPalletTest : public QObject {
       QVERIFY(pb::overhang_m(config) <= 0.10);
       QCOMPARE(config.wrap, pb::WrapType::stretch);
       QVERIFY(config.notes.rfind("random seed " + std::to_string(seed) + ": ", 0) == 0);
-      reduced += config.notes.find("Ti reduced") != std::string::npos ? 1 : 0;
+      reduced += config.notes.find("cartons a layer reduced") != std::string::npos ? 1 : 0;
       trimmed += config.notes.find("trimmed") != std::string::npos ? 1 : 0;
     }
-    qInfo("of %d seeds: Ti reduced in %d, layers trimmed in %d", n, reduced, trimmed);
+    qInfo("of %d seeds: cartons a layer reduced in %d, layers trimmed in %d", n, reduced, trimmed);
   }
 
   // Issue 12: every pattern, unwrapped (and with the wrap drawn per pallet), hundreds of seeds
@@ -224,6 +226,41 @@ class RandomPalletTest : public QObject {
              config.notes.c_str());
   }
 
+  // Eighty-three cartons a layer drawn, nine fit the deck: the mass cap is then asked of five
+  // layers of nine (655 kg), not of five of 83 (it was trimmed to one layer "for the mass cap").
+  void theDeckIsFittedBeforeTheCapsTrimLayers() {
+    pb::RandomPalletOptions options = seeded(1);
+    options.min_items_per_layer = 40;
+    options.max_items_per_layer = 100;
+    const auto inputs = pb::random_scanner_inputs(options, catalog());
+    const auto config = make(options);
+    QVERIFY2(
+        config.notes.find(std::to_string(inputs.items_per_layer) +
+                          " cartons a layer reduced to 9 to fit the deck") != std::string::npos,
+        config.notes.c_str());
+    QCOMPARE(config.items.size(), std::size_t{9} * static_cast<std::size_t>(inputs.layers));
+    QVERIFY2(config.notes.find("trimmed") == std::string::npos, config.notes.c_str());
+  }
+
+  // Forty to fifty layers asked of a 1.85 m cap: each pallet is trimmed before it is laid out
+  // (laid out first, the stack reached past the validator's 10 m coordinates and seed 3 was an
+  // error), and the note names the caps that trimmed it.
+  void farTooManyLayersAreTrimmedToTheHeightCap() {
+    pb::RandomPalletOptions options;
+    options.min_layers = 40;
+    options.max_layers = 50;
+    for (std::uint64_t seed = 0; seed < 20; ++seed) {
+      options.seed = seed;
+      const auto made = pb::random_pallet(options, catalog());
+      QVERIFY2(made.ok(), made.ok() ? "" : pb::to_string(made.diagnostics[0]).c_str());
+      QVERIFY(!pb::has_errors(pb::validate(*made)));
+      QVERIFY(pb::stack_height_m(*made) <= pb::ValidationLimits{}.max_stack_height_m);
+      const bool named = made->notes.find("layers for the height cap") != std::string::npos ||
+                         made->notes.find("layers for the mass cap") != std::string::npos;
+      QVERIFY2(named, made->notes.c_str());
+    }
+  }
+
   void itemsPerLayerIsReducedToWhatFits() {
     pb::RandomPalletOptions options;
     options.min_items_per_layer = 10;
@@ -234,7 +271,7 @@ class RandomPalletTest : public QObject {
       const auto inputs = pb::random_scanner_inputs(options, catalog());
       const auto config = make(options);
       QVERIFY(!pb::has_errors(pb::validate(config)));
-      if (config.notes.find("Ti reduced from 10") != std::string::npos) ++reduced;
+      if (config.notes.find("10 cartons a layer reduced") != std::string::npos) ++reduced;
       if (inputs.pattern == pb::LayerPattern::column) QCOMPARE(inputs.items_per_layer, 2);
     }
     QVERIFY(reduced > 0);
