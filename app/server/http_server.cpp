@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -202,8 +203,9 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
   // chunked upload was read and parsed). A multipart body goes through cpp-httplib's parser and is
   // dropped: the service takes JSON. Past the limit a body is read on and dropped, up to four times
   // the limit, so that the client, still sending, gets the 413 rather than a closed connection.
-  auto with_body = [handle, max_body](const httplib::Request& req, httplib::Response& res,
-                                      const httplib::ContentReader& read) {
+  auto with_body = [handle, max_body, &service](const httplib::Request& req, httplib::Response& res,
+                                                const httplib::ContentReader& read) {
+    const auto start = std::chrono::steady_clock::now();
     std::string body;
     std::size_t seen = 0;
     auto keep = [&](const char* data, std::size_t n) {
@@ -219,6 +221,9 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
       res.status = seen > max_body || res.status == 413 ? 413 : 400;
       if (!read_all) res.set_header("Connection", "close");  // the rest of it is not read
       res.set_content(error_body(req, res.status, max_body), "application/json");
+      service.refused(
+          req.method, req.path, res.status,
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       return;
     }
     handle(req, std::move(body), res);
@@ -242,7 +247,7 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
   // client must not send on it; cpp-httplib 0.11 keeps it open and reads what follows as a request,
   // which it refuses).
   s.set_pre_routing_handler(
-      [max_body, cors, handle](const httplib::Request& req, httplib::Response& res) {
+      [max_body, cors, handle, &service](const httplib::Request& req, httplib::Response& res) {
         auto [status, detail] = framing_error(req, max_body);
         if (status == 0 && without_body(req)) {  // answered now, with its empty body
           handle(req, std::string(), res);
@@ -253,12 +258,15 @@ HttpServer::HttpServer(Service& service, HttpOptions options) : impl_(std::make_
         res.status = status;
         res.set_header("Connection", "close");
         res.set_content(refusal_json(detail), "application/json");
+        service.refused(req.method, req.path, status, 0.0);
         return httplib::Server::HandlerResponse::Handled;
       });
   // What cpp-httplib answers itself (an oversized body, a malformed request) gets our JSON.
-  s.set_error_handler([max_body](const httplib::Request& req, httplib::Response& res) {
+  // (Every answer of ours has a body: an empty one is cpp-httplib's own, counted here.)
+  s.set_error_handler([max_body, &service](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;
     res.set_content(error_body(req, res.status, max_body), "application/json");
+    service.refused(req.method.empty() ? "unknown" : req.method, req.path, res.status, 0.0);
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     res.status = 500;

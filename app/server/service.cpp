@@ -1161,6 +1161,19 @@ Response Service::dispatch(const Request& request, std::string& route) {
   return error_response(404, "no route " + request.path + "; GET / lists the routes");
 }
 
+void Service::refused(const std::string& method, const std::string& path, int status,
+                      double seconds) {
+  std::string route = "unmatched";
+  for (const auto& r : routes_) {
+    Params params;
+    if (match(r.pattern, path, params)) {
+      route = r.pattern;
+      break;
+    }
+  }
+  metrics_.observe(method, route, status, seconds);
+}
+
 Response Service::handle(const Request& request) {
   const auto start = std::chrono::steady_clock::now();
   std::string route;

@@ -54,6 +54,10 @@ class Service {
   AnalysisPool& pool() { return pool_; }
   Metrics& metrics() { return metrics_; }
 
+  /// Counts a request the HTTP layer refused before handle() saw it (a body over the limit, a
+  /// framing error), under the route its path matches, so /metrics counts every answer.
+  void refused(const std::string& method, const std::string& path, int status, double seconds);
+
   /// Every route, "METHOD /pattern", in the order they are matched.
   std::vector<std::string> routes() const;
 

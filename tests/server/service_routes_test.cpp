@@ -496,6 +496,13 @@ class ServiceRoutesTest : public QObject {
       if (status != 200) QVERIFY(!body["errors"][0]["message"].get<std::string>().empty());
     }
     QCOMPARE(body_of(client_->Get("/healthz"))["status"], "ok");  // still serving
+    // Refused before the service saw them, they are counted all the same, under their route.
+    const std::string metrics = client_->Get("/metrics")->body;
+    for (const char* line :
+         {"palletballet_requests_total{method=\"POST\",route=\"/v1/validate\",status=\"400\"}",
+          "palletballet_requests_total{method=\"POST\",route=\"/v1/validate\",status=\"413\"}"}) {
+      QVERIFY2(metrics.find(line) != std::string::npos, line);
+    }
   }
 
   // A request that declares no body (neither Content-Length nor Transfer-Encoding) has none
