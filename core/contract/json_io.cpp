@@ -443,6 +443,14 @@ Result<Json> parse_json(std::string_view text) {
                                    "the document is empty; send the pallet as a JSON object, "
                                    "{\"items\": [...], ...}");
     }
+    // nlohmann stops at a NUL byte as at the end of the text ("unexpected end of input at byte
+    // 1" for a file that is all there): name it, and what usually puts one there.
+    if (const auto nul = text.find('\0'); nul != std::string_view::npos && nul + 1 <= e.byte) {
+      return Result<Json>::failure(
+          "", "the text has a NUL byte at byte " + std::to_string(nul + 1) +
+                  ", which JSON never contains: the file is binary or not UTF-8 (UTF-16 puts one "
+                  "beside every letter); save it as UTF-8 JSON");
+    }
     // nlohmann's "[json.exception.parse_error.101] parse error at line 1, column 9: syntax error
     // while parsing value - ...": the position in words, then what it found.
     std::string detail = ascii(e.what());

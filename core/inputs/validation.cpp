@@ -62,9 +62,15 @@ class Checker {
       const std::string shown = !std::isfinite(value)   ? "not finite"
                                 : std::abs(value) < 1e6 ? fixed(value, 4)
                                                         : short_number(value);
-      error(pointer, what + " is " + shown + " " + unit + "; set it to a number in " +
-                         (range.lo_open ? "(" : "[") + fixed(range.lo, 2) + ", " +
-                         fixed(range.hi, 2) + "] " + unit);
+      // An open-ended range reads as a bound ("a number >= 0 s"), not "[0.00, 1.79769e+308]".
+      const std::string wanted =
+          range.hi == std::numeric_limits<double>::max() ||
+                  range.hi == std::numeric_limits<double>::infinity()
+              ? std::string(range.lo_open ? "> " : ">= ") + short_number(range.lo)
+              : std::string("in ") + (range.lo_open ? "(" : "[") + fixed(range.lo, 2) + ", " +
+                    fixed(range.hi, 2) + "]";
+      error(pointer,
+            what + " is " + shown + " " + unit + "; set it to a number " + wanted + " " + unit);
     }
     return ok;
   }

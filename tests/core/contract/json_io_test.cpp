@@ -86,6 +86,17 @@ class JsonIoTest : public QObject {
     QCOMPARE(Json(message).dump().empty(), false);  // throws on invalid UTF-8
   }
 
+  // nlohmann stops at a NUL as at the end of the text: "unexpected end of input at byte 1" for a
+  // UTF-16 file. The message names the NUL and what puts one there.
+  void aNulByteIsNamed() {
+    const std::string text("{\0\"\0i\0", 7);
+    const auto json = parse_json(text);
+    QVERIFY(!json);
+    const std::string message = json.diagnostics.front().message;
+    QVERIFY2(message.starts_with("the text has a NUL byte at byte 2"), message.c_str());
+    QVERIFY2(message.find("UTF-8") != std::string::npos, message.c_str());
+  }
+
   void palletRoundTripIsIdentity() {
     const Json json = pallet_to_json(sample());
     const auto read = pallet_from_json(json);

@@ -161,6 +161,8 @@ class ValidationTest : public QObject {
     for (double bad : {-1.0, std::numeric_limits<double>::infinity()}) {
       config.seconds_since_temp_change = bad;
       EXPECT_ONE(validate(config), "/seconds_since_temp_change", Severity::error);
+      // An open-ended range is a bound, not "[0.00, 1.79769e+308]".
+      QVERIFY2(only.message.ends_with("set it to a number >= 0 s"), only.message.c_str());
     }
     config.seconds_since_temp_change = 0.0;
     QVERIFY(validate(config).empty());
