@@ -361,6 +361,9 @@ class TestPalletDocument : public QObject {
     QTest::newRow("unknown wrap") << QByteArray(R"({"items": [], "env": "frozen",
         "body_temp_c": -20, "wrap": "cling"})")
                                   << QStringLiteral("/wrap: ");
+    // Never opened as a stretch-wrapped load: the supervisor is told to say which wrap it has.
+    QTest::newRow("missing wrap") << QByteArray(R"({"items": [], "env": "frozen",
+        "body_temp_c": -20})") << QStringLiteral("/wrap: the required key 'wrap' is missing");
     QTest::newRow("scenario item") << QByteArray(R"({"name": "x", "pallet": {"env": "frozen",
         "body_temp_c": -20, "items": [{"sku": "A", "weight_kg": "heavy"}]}})")
                                    << QStringLiteral("/pallet/items/0/weight_kg: ");
