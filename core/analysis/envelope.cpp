@@ -1487,32 +1487,29 @@ void summarise(Envelope& env, const LineDescription& line, const SearchConfig& s
   SafetyResult& r = env.result;
   r.line_estop_decel_mps2 = line.estop_decel_mps2;
   r.line_curve_radius_m = line.curve_radius_m;
+  // An axis's mode, and how its top_item_slide went (the result's *_item_tipped, *_load_as_one).
+  auto failing = [](const AxisLimit& a, FailureMode& mode, bool& tipped, bool& as_one) {
+    mode = a.mode;
+    tipped = a.slide == SlideKind::item_tipped;
+    as_one = a.slide == SlideKind::load_as_one;
+  };
   r.max_accel_mps2 = env.accel.limit;
-  r.accel_mode = env.accel.mode;
-  r.accel_item_tipped = env.accel.slide == SlideKind::item_tipped;
-  r.accel_load_as_one = env.accel.slide == SlideKind::load_as_one;
+  failing(env.accel, r.accel_mode, r.accel_item_tipped, r.accel_load_as_one);
   r.max_decel_mps2 = env.decel.limit;
-  r.decel_mode = env.decel.mode;
-  r.decel_item_tipped = env.decel.slide == SlideKind::item_tipped;
-  r.decel_load_as_one = env.decel.slide == SlideKind::load_as_one;
+  failing(env.decel, r.decel_mode, r.decel_item_tipped, r.decel_load_as_one);
   r.max_lateral_g = env.lateral.limit;
-  r.lateral_mode = env.lateral.mode;
-  r.lateral_item_tipped = env.lateral.slide == SlideKind::item_tipped;
-  r.lateral_load_as_one = env.lateral.slide == SlideKind::load_as_one;
+  failing(env.lateral, r.lateral_mode, r.lateral_item_tipped, r.lateral_load_as_one);
   // The speed the curve allows: v^2 / r within the measured lateral limit.
   const double curve_speed = std::sqrt(env.lateral.limit * kGravity * line.curve_radius_m);
   const double stop_speed = env.speed.at_ceiling ? s.speed_max_mps : env.speed.limit;
-  if (!env.lateral.at_ceiling && curve_speed < stop_speed) {
+  const bool by_curve = !env.lateral.at_ceiling && curve_speed < stop_speed;
+  failing(by_curve ? env.lateral : env.speed, r.speed_mode, r.speed_item_tipped,
+          r.speed_load_as_one);
+  if (by_curve) {
     r.max_speed_mps = std::floor(curve_speed / s.speed_precision_mps) * s.speed_precision_mps;
-    r.speed_mode = env.lateral.mode;
-    r.speed_item_tipped = env.lateral.slide == SlideKind::item_tipped;
-    r.speed_load_as_one = env.lateral.slide == SlideKind::load_as_one;
     r.speed_governed_by = SpeedGovernor::curve;
   } else {
     r.max_speed_mps = stop_speed;
-    r.speed_mode = env.speed.mode;
-    r.speed_item_tipped = env.speed.slide == SlideKind::item_tipped;
-    r.speed_load_as_one = env.speed.slide == SlideKind::load_as_one;
     r.speed_governed_by = env.speed.at_ceiling ? SpeedGovernor::ceiling : SpeedGovernor::estop;
   }
   r.max_speed_mps = std::min(r.max_speed_mps, s.speed_max_mps);
